@@ -1,0 +1,94 @@
+//! The one error type of the core: a parameter outside its allowed range.
+
+use core::fmt;
+
+/// Why a constructor refused its input. Every variant names the offending field,
+/// so a front end can print `field = value, allowed: range` without guessing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Error {
+    /// A scalar parameter is NaN, infinite or outside its range.
+    OutOfRange {
+        /// The parameter's name as documented (e.g. `"g"`, `"theta_max"`).
+        field: &'static str,
+        /// The value that was given.
+        value: f64,
+        /// The allowed range in interval notation (e.g. `"(-1, 1)"`).
+        allowed: &'static str,
+    },
+    /// A vector parameter has a non-finite component.
+    NotFinite {
+        /// The parameter's name (e.g. `"x0"`).
+        field: &'static str,
+    },
+    /// Two points that must differ coincide (e.g. `x0 == x2`).
+    Degenerate {
+        /// The parameter's name.
+        field: &'static str,
+        /// What is wrong, in a few words.
+        reason: &'static str,
+    },
+    /// A table has the wrong shape (lengths, ordering, end points).
+    Table {
+        /// The table's name (e.g. `"theta"`).
+        field: &'static str,
+        /// What is wrong, in a few words.
+        reason: &'static str,
+    },
+}
+
+impl Error {
+    /// The name of the offending field.
+    pub fn field(&self) -> &'static str {
+        match *self {
+            Error::OutOfRange { field, .. }
+            | Error::NotFinite { field }
+            | Error::Degenerate { field, .. }
+            | Error::Table { field, .. } => field,
+        }
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::OutOfRange { field, value, allowed } => {
+                write!(f, "{field} = {value} is out of range; allowed: {allowed}")
+            }
+            Error::NotFinite { field } => write!(f, "{field} has a non-finite component"),
+            Error::Degenerate { field, reason } => write!(f, "{field}: {reason}"),
+            Error::Table { field, reason } => write!(f, "table {field}: {reason}"),
+        }
+    }
+}
+
+impl core::error::Error for Error {}
+
+/// Checks `lo < value < hi` (open interval), naming `field` on failure.
+pub(crate) fn check_open(
+    field: &'static str,
+    value: f64,
+    lo: f64,
+    hi: f64,
+    allowed: &'static str,
+) -> Result<(), Error> {
+    if value > lo && value < hi {
+        Ok(())
+    } else {
+        Err(Error::OutOfRange { field, value, allowed })
+    }
+}
+
+/// Checks `lo <= value <= hi` (closed interval), naming `field` on failure.
+pub(crate) fn check_closed(
+    field: &'static str,
+    value: f64,
+    lo: f64,
+    hi: f64,
+    allowed: &'static str,
+) -> Result<(), Error> {
+    if value >= lo && value <= hi {
+        Ok(())
+    } else {
+        Err(Error::OutOfRange { field, value, allowed })
+    }
+}

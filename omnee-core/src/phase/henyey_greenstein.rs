@@ -1,0 +1,82 @@
+//! The Henyey–Greenstein phase function, in the cancellation-free forms of
+//! MATH.md §4.
+
+use super::{Deflection, PhaseFunction};
+use crate::error::{Error, check_open};
+use crate::real::Real;
+
+/// Henyey–Greenstein (1941):
+/// `p(θ) = (1 − g²) / (4π (1 + g² − 2g cos θ)^{3/2})`, mean cosine `g ∈ (−1, 1)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HenyeyGreenstein<F> {
+    g: F,
+}
+
+impl<F: Real> HenyeyGreenstein<F> {
+    /// A lobe with mean cosine `g`; `g` must lie in the open interval (−1, 1).
+    pub fn new(g: F) -> Result<Self, Error> {
+        check_open("g", g.to_f64(), -1.0, 1.0, "(-1, 1)")?;
+        Ok(Self { g })
+    }
+
+    /// The asymmetry parameter g (the mean cosine).
+    #[inline]
+    pub fn g(&self) -> F {
+        self.g
+    }
+
+    /// `1 + g² − 2g cos θ`, written without cancellation for either sign of g:
+    /// `(1 − g)² + 2g (1 − cos θ)` for g ≥ 0, `(1 + g)² − 2g (1 + cos θ)` for g < 0.
+    #[inline]
+    fn denominator(&self, d: Deflection<F>) -> F {
+        let g = self.g;
+        if g >= F::ZERO {
+            (F::ONE - g).sqr() + F::TWO * g * d.one_minus_cos
+        } else {
+            (F::ONE + g).sqr() - F::TWO * g * d.one_plus_cos
+        }
+    }
+}
+
+impl<F: Real> PhaseFunction<F> for HenyeyGreenstein<F> {
+    /// `p(θ) = (1 − g)(1 + g) / (4π D^{3/2})`, `D` from [`Self::denominator`].
+    #[inline]
+    fn eval(&self, d: Deflection<F>) -> F {
+        let g = self.g;
+        let den = self.denominator(d);
+        F::FRAC_1_4PI * (F::ONE - g) * (F::ONE + g) / (den * den.sqrt())
+    }
+
+    /// The inverse CDF in θ. With `k = 1 + g − 2gu` and `q = (1 − g²)/k`:
+    ///
+    /// `1 − cos θ = (1 − g) u (q + 1 − g) / k`,
+    /// `1 + cos θ = (1 + g)(1 − u)(q + 1 + g) / k`,
+    ///
+    /// both free of cancellation and of a division by g (g = 0 gives the
+    /// isotropic `1 − cos θ = 2u`).
+    #[inline]
+    fn sample(&self, u: F) -> Deflection<F> {
+        let g = self.g;
+        let k = F::ONE + g - F::TWO * g * u;
+        let q = (F::ONE - g) * (F::ONE + g) / k;
+        let one_minus_cos = (F::ONE - g) * u * (q + F::ONE - g) / k;
+        let one_plus_cos = (F::ONE + g) * (F::ONE - u) * (q + F::ONE + g) / k;
+        Deflection::from_versines(one_minus_cos, one_plus_cos)
+    }
+
+    /// `P(Θ ≤ θ) = (1 + g)(1 − cos θ) / (√D (√D + 1 − g))`, the textbook
+    /// `(1 − g²)/(2g) · (1/(1 − g) − D^{−1/2})` with the g in the denominator
+    /// cancelled analytically.
+    #[inline]
+    fn cdf(&self, d: Deflection<F>) -> F {
+        let g = self.g;
+        let root = self.denominator(d).sqrt();
+        ((F::ONE + g) * d.one_minus_cos / (root * (root + F::ONE - g))).min(F::ONE)
+    }
+
+    /// `⟨cos θ⟩ = g`.
+    #[inline]
+    fn mean_cosine(&self) -> F {
+        self.g
+    }
+}
