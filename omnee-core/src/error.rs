@@ -51,7 +51,11 @@ impl Error {
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Error::OutOfRange { field, value, allowed } => {
+            Error::OutOfRange {
+                field,
+                value,
+                allowed,
+            } => {
                 write!(f, "{field} = {value} is out of range; allowed: {allowed}")
             }
             Error::NotFinite { field } => write!(f, "{field} has a non-finite component"),
@@ -74,7 +78,11 @@ pub(crate) fn check_open(
     if value > lo && value < hi {
         Ok(())
     } else {
-        Err(Error::OutOfRange { field, value, allowed })
+        Err(Error::OutOfRange {
+            field,
+            value,
+            allowed,
+        })
     }
 }
 
@@ -89,6 +97,10 @@ pub(crate) fn check_closed(
     if value >= lo && value <= hi {
         Ok(())
     } else {
-        Err(Error::OutOfRange { field, value, allowed })
+        Err(Error::OutOfRange {
+            field,
+            value,
+            allowed,
+        })
     }
 }

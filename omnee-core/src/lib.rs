@@ -23,6 +23,7 @@
 
 pub mod error;
 pub mod phase;
+pub mod quadrature;
 pub mod real;
 
 pub use error::Error;

@@ -382,7 +382,10 @@ mod tests {
         assert_eq!(sinc(0.0f64), 1.0);
         for &x in &[1e-8f64, 1e-4, 3e-3, 0.1, 1.0, 3.0] {
             let exact = x.sin() / x;
-            assert!((sinc(x) - exact).abs() <= 2.0 * f64::EPSILON * exact, "x = {x}");
+            assert!(
+                (sinc(x) - exact).abs() <= 2.0 * f64::EPSILON * exact,
+                "x = {x}"
+            );
             let x32 = x as f32;
             let e32 = ((x32 as f64).sin() / x32 as f64) as f32;
             assert!((sinc(x32) - e32).abs() <= 2.0 * f32::EPSILON, "x = {x}");

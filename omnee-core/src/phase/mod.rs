@@ -42,7 +42,11 @@ impl<F: Real> Deflection<F> {
     pub fn from_theta(theta: F) -> Self {
         let theta = theta.clamp_to(F::ZERO, F::PI);
         let (s, c) = (theta * F::HALF).sin_cos();
-        Self { theta, one_minus_cos: F::TWO * s * s, one_plus_cos: F::TWO * c * c }
+        Self {
+            theta,
+            one_minus_cos: F::TWO * s * s,
+            one_plus_cos: F::TWO * c * c,
+        }
     }
 
     /// From both versines, each computed without cancellation by the caller:
@@ -51,7 +55,11 @@ impl<F: Real> Deflection<F> {
     pub fn from_versines(one_minus_cos: F, one_plus_cos: F) -> Self {
         let omc = one_minus_cos.clamp_to(F::ZERO, F::TWO);
         let opc = one_plus_cos.clamp_to(F::ZERO, F::TWO);
-        Self { theta: F::TWO * omc.sqrt().atan2(opc.sqrt()), one_minus_cos: omc, one_plus_cos: opc }
+        Self {
+            theta: F::TWO * omc.sqrt().atan2(opc.sqrt()),
+            one_minus_cos: omc,
+            one_plus_cos: opc,
+        }
     }
 
     /// From `1 − cos θ` alone (accurate for θ ≤ π/2; `1 + cos θ = 2 − (1 − cos θ)`).
