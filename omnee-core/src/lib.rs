@@ -21,6 +21,7 @@
 #![no_std]
 #![forbid(unsafe_code)]
 
+pub mod circumcircle;
 pub mod error;
 pub mod phase;
 pub mod quadrature;

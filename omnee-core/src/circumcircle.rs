@@ -1,0 +1,356 @@
+//! Circumcircle geometry: the triangle `x0, x1, x2` in the coordinates
+//! (θ, β, φ) of MATH.md §2.
+//!
+//! `α` is the angle at `x0` (between the axis `e` and `x1 − x0`), `β` the angle
+//! at `x2` (between `−e` and `x1 − x2`), and θ = α + β the deflection at `x1`.
+//! For fixed θ every `x1` on the circular arc through `x0` and `x2` has the same
+//! deflection (inscribed angle theorem): the talk's "waterlevel". φ rotates the
+//! triangle's plane about the axis.
+//!
+//! The map keeps `β` as the fraction `β/θ ∈ [0, 1]` (the sampler's `u2`), which
+//! stays meaningful at θ = 0, where `x1` lies on the segment at `d1 = (β/θ) s`.
+//! Lengths come from the law of sines written with `sinc`, so nothing divides
+//! zero by zero:
+//!
+//! `d1 = s sin β / sin θ = s (β/θ) sinc β / sinc θ`,
+//! `d2 = s sin α / sin θ = s (α/θ) sinc α / sinc θ`.
+
+use crate::error::Error;
+use crate::real::{Real, Vector, sinc};
+
+/// The fixed end points `x0` (light side) and `x2` (receiver side) with the
+/// orthonormal frame `(b1, b2, e)` about the axis `e = (x2 − x0)/s`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Axis<F: Real> {
+    /// The light-side end point.
+    pub x0: F::Vec3,
+    /// The receiver-side end point.
+    pub x2: F::Vec3,
+    /// `s = |x2 − x0| > 0`.
+    pub s: F,
+    /// The unit axis `e = (x2 − x0)/s`.
+    pub e: F::Vec3,
+    /// First unit vector perpendicular to `e` (φ = 0).
+    pub b1: F::Vec3,
+    /// Second unit vector perpendicular to `e` (φ = π/2), `b1 × b2 = e`.
+    pub b2: F::Vec3,
+}
+
+/// The coordinates (θ, β/θ, φ) of a point `x1` relative to an [`Axis`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Angles<F> {
+    /// The deflection θ = α + β ∈ [0, π].
+    pub theta: F,
+    /// `β/θ ∈ [0, 1]`, the share of θ at `x2`; at θ = 0 the limit `d1/s`.
+    pub beta_ratio: F,
+    /// The azimuth φ ∈ [0, 2π) of the triangle's plane about the axis.
+    pub phi: F,
+}
+
+impl<F: Real> Angles<F> {
+    /// β = (β/θ) θ, the angle at `x2`.
+    #[inline]
+    pub fn beta(&self) -> F {
+        self.beta_ratio * self.theta
+    }
+
+    /// α = (1 − β/θ) θ, the angle at `x0`.
+    #[inline]
+    pub fn alpha(&self) -> F {
+        (F::ONE - self.beta_ratio) * self.theta
+    }
+}
+
+impl<F: Real> Axis<F> {
+    /// The axis from `x0` to `x2`. Fails for non-finite points, for `x0 == x2`
+    /// and for a distance that overflows.
+    pub fn new(x0: F::Vec3, x2: F::Vec3) -> Result<Self, Error> {
+        if !x0.is_finite() {
+            return Err(Error::NotFinite { field: "x0" });
+        }
+        if !x2.is_finite() {
+            return Err(Error::NotFinite { field: "x2" });
+        }
+        let d = x2 - x0;
+        let s = d.length();
+        if !(s > F::ZERO) {
+            return Err(Error::Degenerate {
+                field: "x2",
+                reason: "coincides with x0 (s = 0)",
+            });
+        }
+        if !s.is_finite() {
+            return Err(Error::NotFinite { field: "x2 - x0" });
+        }
+        let e = d * (F::ONE / s);
+        let (b1, b2) = e.orthonormal_pair();
+        Ok(Self {
+            x0,
+            x2,
+            s,
+            e,
+            b1,
+            b2,
+        })
+    }
+
+    /// The point `x1 = x0 + d1 (cos α e + sin α (cos φ b1 + sin φ b2))` with the
+    /// given angles (MATH.md §2). `None` where the map has no point: θ ≥ π
+    /// (`x1` at infinity) or non-finite input.
+    #[inline]
+    pub fn point(&self, angles: Angles<F>) -> Option<F::Vec3> {
+        let (d1, _) = side_lengths(self.s, angles)?;
+        let (sin_alpha, cos_alpha) = angles.alpha().sin_cos();
+        let (sin_phi, cos_phi) = angles.phi.sin_cos();
+        let radial = self.b1 * cos_phi + self.b2 * sin_phi;
+        let x1 = self.x0 + (self.e * cos_alpha + radial * sin_alpha) * d1;
+        x1.is_finite().then_some(x1)
+    }
+
+    /// The angles of `x1`, the inverse of [`point`](Self::point). With the
+    /// foot coordinates `p1 = e·(x1 − x0)`, `p2 = e·(x2 − x1)` and the distance
+    /// from the axis `h = |e × (x1 − x0)|`:
+    /// `α = atan2(h, p1)`, `β = atan2(h, p2)`, θ = α + β,
+    /// `φ = atan2((x1 − x0)·b2, (x1 − x0)·b1)`.
+    ///
+    /// One `h` serves both angles, so the rounding noise of a point near the
+    /// axis cancels in `β/θ → p1/(p1 + p2)`. On the axis φ = 0, and between
+    /// the end points θ = 0 and `β/θ = d1/s`. `None` for non-finite `x1`.
+    #[inline]
+    pub fn angles(&self, x1: F::Vec3) -> Option<Angles<F>> {
+        if !x1.is_finite() {
+            return None;
+        }
+        let a = x1 - self.x0;
+        let h = self.e.cross(a).length();
+        let p1 = self.e.dot(a);
+        let p2 = self.e.dot(self.x2 - x1);
+        let alpha = h.atan2(p1);
+        let beta = h.atan2(p2);
+        let theta = alpha + beta;
+        let beta_ratio = if theta > F::ZERO {
+            beta / theta
+        } else {
+            (p1 / self.s).clamp_to(F::ZERO, F::ONE)
+        };
+        let mut phi = a.dot(self.b2).atan2(a.dot(self.b1));
+        if phi < F::ZERO {
+            phi += F::TAU;
+        }
+        if phi >= F::TAU {
+            phi = F::ZERO;
+        }
+        Some(Angles {
+            theta: theta.min(F::PI),
+            beta_ratio,
+            phi,
+        })
+    }
+}
+
+/// The side lengths `(d1, d2)` of the triangle with base `s` and the given
+/// angles, by the law of sines in `sinc` form (exact at θ = 0):
+/// `d1 = s (β/θ) sinc β / sinc θ`, `d2 = s (1 − β/θ) sinc α / sinc θ`.
+/// `None` for θ ≥ π or non-finite input (the triangle does not close).
+#[inline]
+pub fn side_lengths<F: Real>(s: F, angles: Angles<F>) -> Option<(F, F)> {
+    let Angles {
+        theta, beta_ratio, ..
+    } = angles;
+    if !(theta >= F::ZERO && theta < F::PI && (F::ZERO..=F::ONE).contains(&beta_ratio)) {
+        return None;
+    }
+    let sinc_theta = sinc(theta);
+    if !(sinc_theta > F::ZERO) {
+        return None;
+    }
+    let scale = s / sinc_theta;
+    let d1 = scale * beta_ratio * sinc(angles.beta());
+    let d2 = scale * (F::ONE - beta_ratio) * sinc(angles.alpha());
+    (d1.is_finite() && d2.is_finite()).then_some((d1, d2))
+}
+
+/// The talk's fractional distance of the foot of `x1` along the axis,
+/// `t = d1 cos α / s = sin β cos(θ − β) / sin θ = (β/θ) sinc β cos α / sinc θ`;
+/// `t ∈ [0, 1]` exactly when θ ≤ π/2. Sampling `β = u θ` is the talk's
+/// `t = P⁻¹(u | θ) = cos(θ − uθ) sin(uθ) / sin θ`. `None` for θ ≥ π.
+#[inline]
+pub fn fractional_distance<F: Real>(angles: Angles<F>) -> Option<F> {
+    let (d1, _) = side_lengths(F::ONE, angles)?;
+    Some(d1 * angles.alpha().cos())
+}
+
+/// The circumradius of the triangle, `R = s / (2 sin θ)` (∞ at θ = 0, where
+/// the arc is the segment itself).
+#[inline]
+pub fn circumradius<F: Real>(s: F, theta: F) -> F {
+    let sin_theta = theta.sin().abs();
+    if sin_theta > F::ZERO {
+        s / (F::TWO * sin_theta)
+    } else {
+        F::INFINITY
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    fn axis() -> Axis<f64> {
+        Axis::new(DVec3::new(0.3, -1.0, 2.0), DVec3::new(1.1, 0.5, 1.2)).unwrap()
+    }
+
+    #[test]
+    fn point_and_angles_are_inverse() {
+        let ax = axis();
+        for &theta in &[1e-7, 0.01, 0.5, 1.5, 2.5, 3.1] {
+            for &ratio in &[1e-6, 0.25, 0.5, 0.9, 0.999] {
+                for &phi in &[0.0, 1.0, 3.0, 6.0] {
+                    let a = Angles {
+                        theta,
+                        beta_ratio: ratio,
+                        phi,
+                    };
+                    let x1 = ax.point(a).unwrap();
+                    let back = ax.angles(x1).unwrap();
+                    // x1 is rounded to about ε(|x0| + s) in each coordinate, which
+                    // moves the angles at x0 and x2 by that over d1 and d2.
+                    let (d1, d2) = side_lengths(ax.s, a).unwrap();
+                    let noise =
+                        8.0 * f64::EPSILON * (ax.x0.length() + ax.s) * (1.0 / d1 + 1.0 / d2);
+                    assert!(
+                        (back.theta - theta).abs() < 1e-12 + noise,
+                        "{a:?} -> {back:?}"
+                    );
+                    assert!(
+                        (back.beta_ratio - ratio).abs() < 1e-9 + noise / theta,
+                        "{a:?} -> {back:?}"
+                    );
+                    let phi_err = (back.phi - phi)
+                        .abs()
+                        .min(core::f64::consts::TAU - (back.phi - phi).abs());
+                    assert!(phi_err < 1e-9 + noise / theta.sin(), "{a:?} -> {back:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn constructed_point_has_the_requested_triangle() {
+        let ax = axis();
+        let a = Angles {
+            theta: 0.7,
+            beta_ratio: 0.3,
+            phi: 2.0,
+        };
+        let x1 = ax.point(a).unwrap();
+        let (w1, w2) = ((x1 - ax.x0).normalize(), (ax.x2 - x1).normalize());
+        assert!(
+            (w1.dot(w2) - 0.7f64.cos()).abs() < 1e-12,
+            "deflection at x1"
+        );
+        let (d1, d2) = side_lengths(ax.s, a).unwrap();
+        assert!(((x1 - ax.x0).length() - d1).abs() < 1e-12);
+        assert!(((ax.x2 - x1).length() - d2).abs() < 1e-12);
+        // x1 lies on the circumcircle of radius s/(2 sin θ).
+        let r = circumradius(ax.s, 0.7);
+        let centre_dist = r * 0.7f64.cos(); // centre to chord midpoint
+        let mid = (ax.x0 + ax.x2) * 0.5;
+        let radial = (x1 - mid) - ax.e * (x1 - mid).dot(ax.e);
+        let centre = mid - radial.normalize() * centre_dist;
+        assert!(((x1 - centre).length() - r).abs() < 1e-12);
+    }
+
+    #[test]
+    fn theta_zero_puts_x1_on_the_segment() {
+        let ax = axis();
+        let x1 = ax
+            .point(Angles {
+                theta: 0.0,
+                beta_ratio: 0.25,
+                phi: 1.0,
+            })
+            .unwrap();
+        assert!((x1 - (ax.x0 + ax.e * 0.25 * ax.s)).length() < 1e-15);
+        let back = ax.angles(x1).unwrap();
+        assert!(
+            back.theta < 1e-14 && (back.beta_ratio - 0.25).abs() < 1e-14,
+            "{back:?}"
+        );
+    }
+
+    #[test]
+    fn fractional_distance_is_the_talks_formula() {
+        for &(theta, u) in &[(0.3f64, 0.2f64), (1.2, 0.7), (1.5707, 0.5), (1e-6, 0.4)] {
+            let t = fractional_distance(Angles {
+                theta,
+                beta_ratio: u,
+                phi: 0.0,
+            })
+            .unwrap();
+            let talk = (theta - u * theta).cos() * (u * theta).sin() / theta.sin();
+            assert!((t - talk).abs() < 1e-9, "theta {theta}: {t} vs {talk}");
+            assert!((0.0..=1.0).contains(&t));
+        }
+        // Past π/2 the foot leaves the segment.
+        let t = fractional_distance(Angles {
+            theta: 2.5,
+            beta_ratio: 0.1,
+            phi: 0.0,
+        })
+        .unwrap();
+        assert!(t < 0.0);
+    }
+
+    #[test]
+    fn f32_is_stable_across_scales_and_near_the_axis() {
+        for &s in &[1e-6f32, 1.0, 1e6] {
+            let ax = Axis::<f32>::new(glam::Vec3::ZERO, glam::Vec3::new(0.0, 0.0, s)).unwrap();
+            for &theta in &[0.0f32, 1e-30, 1e-6, 3e-3, 1.0, 3.0] {
+                let a = Angles {
+                    theta,
+                    beta_ratio: 0.5,
+                    phi: 1.0,
+                };
+                let x1 = ax.point(a).unwrap();
+                let back = ax.angles(x1).unwrap();
+                assert!(back.theta.is_finite() && back.beta_ratio.is_finite());
+                assert!(
+                    (back.beta_ratio - 0.5).abs() < 1e-3,
+                    "s {s} theta {theta}: {back:?}"
+                );
+                assert!(
+                    (back.theta - theta).abs() <= 1e-5 * theta.max(1e-3),
+                    "s {s} θ {theta}: {back:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn degenerate_input_is_refused() {
+        let p = DVec3::new(1.0, 2.0, 3.0);
+        assert!(Axis::<f64>::new(p, p).is_err());
+        assert!(Axis::<f64>::new(DVec3::new(f64::NAN, 0.0, 0.0), p).is_err());
+        assert!(Axis::<f64>::new(p, DVec3::new(0.0, f64::INFINITY, 0.0)).is_err());
+        let ax = axis();
+        assert!(
+            ax.point(Angles {
+                theta: core::f64::consts::PI,
+                beta_ratio: 0.5,
+                phi: 0.0
+            })
+            .is_none()
+        );
+        assert!(
+            ax.point(Angles {
+                theta: f64::NAN,
+                beta_ratio: 0.5,
+                phi: 0.0
+            })
+            .is_none()
+        );
+        assert!(ax.angles(DVec3::new(f64::NAN, 0.0, 0.0)).is_none());
+    }
+}
