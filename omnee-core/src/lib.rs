@@ -23,9 +23,13 @@
 
 pub mod circumcircle;
 pub mod error;
+pub mod medium;
+pub mod mis;
 pub mod phase;
 pub mod quadrature;
 pub mod real;
+pub mod reference;
+pub mod sampling;
 
 pub use error::Error;
 pub use real::{Real, Vector};

@@ -48,6 +48,8 @@ pub trait Real:
     const TAU: Self;
     /// π/2.
     const FRAC_PI_2: Self;
+    /// 1/π.
+    const FRAC_1_PI: Self;
     /// 1/(4π), the isotropic phase function.
     const FRAC_1_4PI: Self;
     /// Machine epsilon (distance from 1 to the next larger number).
@@ -196,6 +198,7 @@ macro_rules! impl_real {
             const PI: Self = core::$f::consts::PI;
             const TAU: Self = core::$f::consts::TAU;
             const FRAC_PI_2: Self = core::$f::consts::FRAC_PI_2;
+            const FRAC_1_PI: Self = core::$f::consts::FRAC_1_PI;
             const FRAC_1_4PI: Self = (0.25 * core::f64::consts::FRAC_1_PI) as $f;
             const EPSILON: Self = $f::EPSILON;
             const MAX: Self = $f::MAX;

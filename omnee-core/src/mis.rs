@@ -1,0 +1,172 @@
+//! Multiple importance sampling (Veach 1997) over any set of [`Technique`]s.
+//!
+//! Every technique's density is in the volume measure, so weights combine
+//! them directly. Weights are computed as
+//! `w_i = 1 / (1 + Σ_{j≠i} (n_j p_j / n_i p_i)^β)`, which stays finite when a
+//! density saturates near an end point.
+
+use crate::real::Real;
+use crate::sampling::{Sample, Technique, saturate};
+
+/// The MIS heuristic.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Heuristic {
+    /// Balance heuristic, `w_i = n_i p_i / Σ_j n_j p_j` (β = 1).
+    #[default]
+    Balance,
+    /// Power heuristic with β = 2, `w_i = (n_i p_i)² / Σ_j (n_j p_j)²`.
+    Power,
+}
+
+impl Heuristic {
+    /// `(ratio)^β` for this heuristic.
+    #[inline]
+    fn power<F: Real>(self, ratio: F) -> F {
+        match self {
+            Heuristic::Balance => ratio,
+            Heuristic::Power => ratio * ratio,
+        }
+    }
+
+    /// The weight of a sample from technique `i` with `n_i p_i = own`, given
+    /// the other techniques' `n_j p_j` at the same point:
+    /// `w_i = 1 / (1 + Σ_{j≠i} (others_j / own)^β)`; 0 if `own` is 0.
+    #[inline]
+    pub fn weight<F: Real>(self, own: F, others: impl IntoIterator<Item = F>) -> F {
+        if !(own > F::ZERO) {
+            return F::ZERO;
+        }
+        let mut sum = F::ONE;
+        for other in others {
+            sum += self.power(other / own);
+        }
+        saturate(F::ONE / sum)
+    }
+}
+
+/// The balance heuristic for two techniques, `n_f p_f / (n_f p_f + n_g p_g)`.
+#[inline]
+pub fn balance_heuristic<F: Real>(nf: F, f_pdf: F, ng: F, g_pdf: F) -> F {
+    Heuristic::Balance.weight(nf * f_pdf, [ng * g_pdf])
+}
+
+/// The power heuristic (β = 2) for two techniques,
+/// `(n_f p_f)² / ((n_f p_f)² + (n_g p_g)²)`.
+#[inline]
+pub fn power_heuristic<F: Real>(nf: F, f_pdf: F, ng: F, g_pdf: F) -> F {
+    Heuristic::Power.weight(nf * f_pdf, [ng * g_pdf])
+}
+
+/// The MIS weight of technique `i` at `x1` in a multi-sample estimator
+/// `Σ_i (1/n_i) Σ_k w_i(x_ik) k(x_ik)/p_i(x_ik)`, where technique `i` takes
+/// `counts[i]` samples. `own_pdf` is `p_i(x1)` as returned with the sample.
+pub fn multi_sample_weight<F: Real>(
+    techniques: &[&dyn Technique<F>],
+    counts: &[F],
+    i: usize,
+    x1: F::Vec3,
+    own_pdf: F,
+    heuristic: Heuristic,
+) -> F {
+    let others = techniques
+        .iter()
+        .zip(counts)
+        .enumerate()
+        .filter(|&(j, _)| j != i)
+        .map(|(_, (t, &n))| n * t.pdf(x1));
+    heuristic.weight(counts[i] * own_pdf, others)
+}
+
+/// One-sample MIS: technique `i` is chosen with probability `c_i`, its sample
+/// weighted by `w_i / c_i`. With the balance heuristic this is sampling the
+/// mixture `Σ c_j p_j` (Veach 1997, §9.2.4).
+///
+/// It is itself a [`Technique`]: `pdf` is the mixture density `Σ_j c_j p_j`
+/// (the density of the returned points), and `weight = w_i · weight_i / c_i`.
+/// The choice reuses `u0` (rescaled into the chosen technique's share), so the
+/// combination still takes three numbers. Not invertible.
+#[derive(Clone, Copy)]
+pub struct OneSample<'a, F: Real, const N: usize> {
+    techniques: [&'a dyn Technique<F>; N],
+    probabilities: [F; N],
+    heuristic: Heuristic,
+}
+
+impl<'a, F: Real, const N: usize> OneSample<'a, F, N> {
+    /// Combines `techniques`, choosing technique `i` with probability
+    /// `probabilities[i]` (normalised here; each finite and ≥ 0, not all 0).
+    pub fn new(
+        techniques: [&'a dyn Technique<F>; N],
+        probabilities: [F; N],
+        heuristic: Heuristic,
+    ) -> Result<Self, crate::Error> {
+        let mut total = F::ZERO;
+        for &c in &probabilities {
+            crate::error::check_closed("probabilities", c.to_f64(), 0.0, f64::MAX, "[0, inf)")?;
+            total += c;
+        }
+        if !(total > F::ZERO) {
+            return Err(crate::Error::Degenerate {
+                field: "probabilities",
+                reason: "all zero",
+            });
+        }
+        let probabilities = probabilities.map(|c| c / total);
+        Ok(Self {
+            techniques,
+            probabilities,
+            heuristic,
+        })
+    }
+
+    /// The normalised selection probabilities.
+    pub fn probabilities(&self) -> [F; N] {
+        self.probabilities
+    }
+}
+
+impl<F: Real, const N: usize> Technique<F> for OneSample<'_, F, N> {
+    /// Chooses `i` by `u0`, rescales `u0` into `[0, 1)` and samples technique `i`.
+    fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
+        let mut lo = F::ZERO;
+        let mut chosen = N - 1;
+        for (i, &c) in self.probabilities.iter().enumerate() {
+            if u[0] < lo + c || i == N - 1 {
+                chosen = i;
+                break;
+            }
+            lo += c;
+        }
+        let c = self.probabilities[chosen];
+        if !(c > F::ZERO) {
+            return None;
+        }
+        let u0 = ((u[0] - lo) / c).clamp_to(F::ZERO, F::ONE_MINUS_EPSILON);
+        let s = self.techniques[chosen].sample([u0, u[1], u[2]])?;
+        let others = (0..N)
+            .filter(|&j| j != chosen)
+            .map(|j| self.probabilities[j] * self.techniques[j].pdf(s.x1));
+        let w = self.heuristic.weight(c * s.pdf, others);
+        Some(Sample {
+            x1: s.x1,
+            pdf: self.pdf(s.x1),
+            weight: saturate(w * s.weight / c),
+        })
+    }
+
+    /// The mixture density `Σ_j c_j p_j(x1)`.
+    fn pdf(&self, x1: F::Vec3) -> F {
+        let mut total = F::ZERO;
+        for (t, &c) in self.techniques.iter().zip(&self.probabilities) {
+            if c > F::ZERO {
+                total += c * t.pdf(x1);
+            }
+        }
+        saturate(total)
+    }
+
+    /// Not invertible: several techniques may produce the same point.
+    fn invert(&self, _x1: F::Vec3) -> Option<[F; 3]> {
+        None
+    }
+}

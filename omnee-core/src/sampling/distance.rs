@@ -1,0 +1,154 @@
+//! Distance sampling: exponential free flight along a ray from the receiver,
+//! truncated to the medium segment.
+
+use super::{Connection, Directions, Sample, Technique, saturate};
+use crate::error::{Error, check_closed};
+use crate::medium::Region;
+use crate::phase::PhaseFunction;
+use crate::real::{Real, Vector};
+
+/// A direction ω from `x2` ([`Directions`]), then the free-flight distance
+/// `t ∈ [t_a, t_b]` with density proportional to `σ e^{−σ (t − t_a)}`
+/// (pbrt's trimmed exponential):
+///
+/// `t = t_a − ln(1 − u (1 − e^{−σL})) / σ`, `L = t_b − t_a`,
+/// `pdf(t) = σ e^{−σ (t − t_a)} / (1 − e^{−σL})`,
+///
+/// evaluated with `ln_1p`/`exp_m1`. σ is the free-flight coefficient, usually
+/// the medium's σt; σ = 0 gives uniform distances on bounded segments (and no
+/// sample on unbounded ones). In the volume measure
+/// `pdf(x1) = pdf_ω(ω) pdf(t) / t²`, so the weight is
+/// `k/pdf = p(θ) / (d1² pdf_ω(ω) pdf(t))`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Distance<F: Real, P> {
+    /// The end points and θmax.
+    pub connection: Connection<F>,
+    /// The phase function at `x1` (for the weight only).
+    pub phase: P,
+    /// How the ray direction is drawn.
+    pub directions: Directions<F>,
+    /// Where the medium is: the ray is sampled inside it.
+    pub region: Region<F>,
+    sigma: F,
+}
+
+impl<F: Real, P: PhaseFunction<F>> Distance<F, P> {
+    /// Distance sampling with free-flight coefficient `sigma ≥ 0` (finite).
+    pub fn new(
+        connection: Connection<F>,
+        phase: P,
+        directions: Directions<F>,
+        region: Region<F>,
+        sigma: F,
+    ) -> Result<Self, Error> {
+        check_closed("sigma", sigma.to_f64(), 0.0, f64::MAX, "[0, inf)")?;
+        Ok(Self {
+            connection,
+            phase,
+            directions,
+            region,
+            sigma,
+        })
+    }
+
+    /// The free-flight coefficient σ.
+    pub fn sigma(&self) -> F {
+        self.sigma
+    }
+
+    /// `1 − e^{−σL}`, the probability mass of the segment (σ > 0), or `L`
+    /// itself for σ = 0 (then the density is `1/L`).
+    #[inline]
+    fn mass(&self, length: F) -> F {
+        if self.sigma > F::ZERO {
+            -(-self.sigma * length).exp_m1()
+        } else {
+            length
+        }
+    }
+
+    /// The density of the offset `x ≥ 0` from the segment start.
+    #[inline]
+    fn density(&self, x: F, length: F) -> F {
+        if self.sigma > F::ZERO {
+            self.sigma * (-self.sigma * x).exp() / self.mass(length)
+        } else {
+            F::ONE / length
+        }
+    }
+}
+
+impl<F: Real, P: PhaseFunction<F>> Technique<F> for Distance<F, P> {
+    /// ω from `(u0, u1)`, `t = t_a − ln_1p(−u2 (1 − e^{−σL})) / σ`.
+    fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
+        let axis = &self.connection.axis;
+        let omega = self.directions.sample([u[0], u[1]]);
+        let pdf_omega = self.directions.pdf(omega);
+        let (ta, tb) = self.region.segment(axis.x2, omega)?;
+        let length = tb - ta;
+        let mass = self.mass(length);
+        if !(mass.is_finite() && pdf_omega > F::ZERO) {
+            return None; // σ = 0 on an unbounded segment
+        }
+        let x = if self.sigma > F::ZERO {
+            -(-u[2] * mass).ln_1p() / self.sigma
+        } else {
+            u[2] * length
+        };
+        let t = (ta + x).min(tb);
+        if !(t > F::ZERO && t.is_finite()) {
+            return None;
+        }
+        let x1 = axis.x2 + omega * t;
+        let pdf_t = self.density(x, length);
+        let (d, d1, _) = self.connection.deflection(x1)?;
+        let weight = if d.theta < self.connection.theta_max {
+            saturate(self.phase.eval(d) / (d1 * d1 * pdf_omega * pdf_t))
+        } else {
+            F::ZERO
+        };
+        Some(Sample {
+            x1,
+            pdf: saturate(pdf_omega * pdf_t / (t * t)),
+            weight,
+        })
+    }
+
+    /// `pdf_ω(ω) pdf(t) / t²` inside the medium segment, else 0.
+    fn pdf(&self, x1: F::Vec3) -> F {
+        let to_x1 = x1 - self.connection.axis.x2;
+        let t = to_x1.length();
+        if !(t > F::ZERO && t.is_finite()) {
+            return F::ZERO;
+        }
+        let omega = to_x1 * (F::ONE / t);
+        let Some((ta, tb)) = self.region.segment(self.connection.axis.x2, omega) else {
+            return F::ZERO;
+        };
+        let length = tb - ta;
+        if !(t >= ta && t <= tb && self.mass(length).is_finite()) {
+            return F::ZERO;
+        }
+        saturate(self.directions.pdf(omega) * self.density(t - ta, length) / (t * t))
+    }
+
+    /// `(u0, u1)` from the direction, `u2 = (1 − e^{−σ(t − t_a)}) / (1 − e^{−σL})`.
+    fn invert(&self, x1: F::Vec3) -> Option<[F; 3]> {
+        let to_x1 = x1 - self.connection.axis.x2;
+        let t = to_x1.length();
+        if !(t > F::ZERO && t.is_finite()) {
+            return None;
+        }
+        let omega = to_x1 * (F::ONE / t);
+        let [u0, u1] = self.directions.invert(omega)?;
+        let (ta, tb) = self.region.segment(self.connection.axis.x2, omega)?;
+        let (x, length) = (t - ta, tb - ta);
+        let u2 = if self.sigma > F::ZERO {
+            -(-self.sigma * x).exp_m1() / self.mass(length)
+        } else {
+            x / length
+        };
+        u2.is_finite()
+            .then_some([u0, u1, u2.clamp_to(F::ZERO, F::ONE)])
+    }
+}

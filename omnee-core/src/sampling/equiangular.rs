@@ -1,0 +1,196 @@
+//! Equiangular sampling (Kulla & Fajardo 2012) along a ray from the receiver:
+//! the baseline OMNEE is measured against.
+
+use super::{Connection, Directions, Sample, Technique, saturate};
+use crate::medium::Region;
+use crate::phase::PhaseFunction;
+use crate::real::{Real, Vector};
+
+/// A direction ω from `x2` ([`Directions`]), then the distance `t` along
+/// `x2 + t ω` inside the medium with density proportional to `1/d1²`, the
+/// inverse squared distance to `x0` (Kulla & Fajardo 2012).
+///
+/// With `Δ = (x0 − x2)·ω` (foot of `x0` on the ray), `D = |(x0 − x2) × ω|`
+/// (its distance from the ray), `v = t − Δ` and the segment `[t_a, t_b]`,
+/// i.e. `v ∈ [a, b] = [t_a − Δ, t_b − Δ]`:
+///
+/// `pdf(t) = c / (D² + v²) = c / d1²`, with `c = D / (θ_b − θ_a)`,
+/// `θ_b − θ_a = atan2(D (b − a), D² + ab)` (one stable atan2, no difference of
+/// two angles near π/2), and `c = ab/(b − a)` in the limit D → 0.
+///
+/// In the volume measure `pdf(x1) = pdf_ω(ω) · c / (d1² d2²)`, and the weight
+/// `k/pdf = p(θ) / (pdf_ω(ω) · c)` is free of every 1/d² factor.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Equiangular<F: Real, P> {
+    /// The end points and θmax.
+    pub connection: Connection<F>,
+    /// The phase function at `x1` (for the weight only).
+    pub phase: P,
+    /// How the ray direction is drawn.
+    pub directions: Directions<F>,
+    /// Where the medium is: the ray is sampled inside it.
+    pub region: Region<F>,
+}
+
+/// The ray `x2 + t ω` restricted to the medium, relative to the foot of `x0`.
+#[derive(Clone, Copy, Debug)]
+struct Line<F> {
+    /// Foot of `x0` on the ray, `Δ = (x0 − x2)·ω`.
+    delta: F,
+    /// Distance of `x0` from the ray line.
+    dist: F,
+    /// Segment ends relative to the foot, `a = t_a − Δ < b = t_b − Δ` (b may be ∞).
+    a: F,
+    b: F,
+    /// The angle `θ_b − θ_a` the segment subtends at `x0` (0 when `dist = 0`).
+    subtended: F,
+    /// The normalisation `c` of `pdf(t) = c / d1²`.
+    c: F,
+}
+
+impl<F: Real> Line<F> {
+    fn new(x0: F::Vec3, x2: F::Vec3, omega: F::Vec3, (ta, tb): (F, F)) -> Option<Self> {
+        let to_light = x0 - x2;
+        let delta = to_light.dot(omega);
+        let dist = to_light.cross(omega).length();
+        let (a, b) = (ta - delta, tb - delta);
+        let subtended = if b.is_finite() {
+            (dist * (b - a)).atan2(dist * dist + a * b)
+        } else {
+            dist.atan2(a)
+        };
+        let c = if dist > F::ZERO && subtended > F::ZERO {
+            dist / subtended
+        } else if a > F::ZERO || b < F::ZERO {
+            // x0 on the ray's line outside the segment: density ∝ 1/v².
+            if b.is_finite() { a * b / (b - a) } else { a }
+        } else {
+            return None; // the ray passes through x0: a δ-like density
+        };
+        (c > F::ZERO && c.is_finite()).then_some(Self {
+            delta,
+            dist,
+            a,
+            b,
+            subtended,
+            c,
+        })
+    }
+
+    /// `v = D tan(θ_a + ξ(θ_b − θ_a))` by the tangent addition formula,
+    /// `v = D (a + D τ) / (D − a τ)`, `τ = tan(ξ(θ_b − θ_a))`; for D = 0,
+    /// `v = ab / (b + (a − b) ξ)`.
+    fn offset(&self, xi: F) -> F {
+        let (d, a, b) = (self.dist, self.a, self.b);
+        if d > F::ZERO && self.subtended > F::ZERO {
+            let tau = (xi * self.subtended).tan();
+            d * (a + d * tau) / (d - a * tau)
+        } else if b.is_finite() {
+            a * b / (b + (a - b) * xi)
+        } else {
+            a / (F::ONE - xi)
+        }
+    }
+
+    /// The inverse of [`offset`](Self::offset):
+    /// `ξ = atan2(D (v − a), D² + a v) / (θ_b − θ_a)`, or `ξ = b (v − a) / (v (b − a))`
+    /// for D = 0.
+    fn invert(&self, v: F) -> F {
+        let (d, a, b) = (self.dist, self.a, self.b);
+        let xi = if d > F::ZERO && self.subtended > F::ZERO {
+            (d * (v - a)).atan2(d * d + a * v) / self.subtended
+        } else if b.is_finite() {
+            b * (v - a) / (v * (b - a))
+        } else {
+            F::ONE - a / v
+        };
+        xi.clamp_to(F::ZERO, F::ONE)
+    }
+}
+
+impl<F: Real, P: PhaseFunction<F>> Equiangular<F, P> {
+    /// Equiangular sampling for `connection` with rays drawn by `directions`
+    /// inside `region`.
+    pub fn new(
+        connection: Connection<F>,
+        phase: P,
+        directions: Directions<F>,
+        region: Region<F>,
+    ) -> Self {
+        Self {
+            connection,
+            phase,
+            directions,
+            region,
+        }
+    }
+
+    fn line(&self, omega: F::Vec3) -> Option<Line<F>> {
+        let axis = &self.connection.axis;
+        Line::new(
+            axis.x0,
+            axis.x2,
+            omega,
+            self.region.segment(axis.x2, omega)?,
+        )
+    }
+}
+
+impl<F: Real, P: PhaseFunction<F>> Technique<F> for Equiangular<F, P> {
+    /// ω from `(u0, u1)`, then `t = Δ + v(u2)` on the medium segment.
+    fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
+        let axis = &self.connection.axis;
+        let omega = self.directions.sample([u[0], u[1]]);
+        let pdf_omega = self.directions.pdf(omega);
+        let line = self.line(omega)?;
+        let t = (line.delta + line.offset(u[2])).clamp_to(line.a + line.delta, line.b + line.delta);
+        if !(t > F::ZERO && t.is_finite() && pdf_omega > F::ZERO) {
+            return None;
+        }
+        let x1 = axis.x2 + omega * t;
+        let (d, d1, d2) = self.connection.deflection(x1)?;
+        let r = F::ONE / (d1 * d2);
+        let weight = if d.theta < self.connection.theta_max {
+            saturate(self.phase.eval(d) / (pdf_omega * line.c))
+        } else {
+            F::ZERO
+        };
+        Some(Sample {
+            x1,
+            pdf: saturate(pdf_omega * line.c * r * r),
+            weight,
+        })
+    }
+
+    /// `pdf_ω(ω) · c / (d1² d2²)` for `x1` inside the medium segment, else 0.
+    fn pdf(&self, x1: F::Vec3) -> F {
+        let axis = &self.connection.axis;
+        let to_x1 = x1 - axis.x2;
+        let (t, d1) = (to_x1.length(), (x1 - axis.x0).length());
+        if !(t > F::ZERO && d1 > F::ZERO && t.is_finite()) {
+            return F::ZERO;
+        }
+        let omega = to_x1 * (F::ONE / t);
+        let Some(line) = self.line(omega) else {
+            return F::ZERO;
+        };
+        if !(t >= line.a + line.delta && t <= line.b + line.delta) {
+            return F::ZERO;
+        }
+        let r = F::ONE / (d1 * t);
+        saturate(self.directions.pdf(omega) * line.c * r * r)
+    }
+
+    /// `(u0, u1)` from the direction, `u2` from the equiangular angle.
+    fn invert(&self, x1: F::Vec3) -> Option<[F; 3]> {
+        let to_x1 = x1 - self.connection.axis.x2;
+        let t = to_x1.length();
+        if !(t > F::ZERO && t.is_finite()) {
+            return None;
+        }
+        let omega = to_x1 * (F::ONE / t);
+        let [u0, u1] = self.directions.invert(omega)?;
+        let line = self.line(omega)?;
+        Some([u0, u1, line.invert(t - line.delta)])
+    }
+}

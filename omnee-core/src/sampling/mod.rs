@@ -1,0 +1,158 @@
+//! Techniques that place the scattering vertex `x1` of a once-more scattered
+//! connection `x0 → x1 → x2` (MATH.md §1).
+//!
+//! Every technique estimates the same integral of the *kernel*
+//!
+//! `k(x1) = p(cos θ) / (d1² d2²)` for θ < θmax, else 0,
+//!
+//! times the factors it does not sample, `f_c` (emission and cosine at `x0`,
+//! transmittance, σs, the receiver's cosine and importance at `x2`), which the
+//! caller multiplies in. Each comes as a trio, as in pbrt-v4's sampling code:
+//! [`Technique::sample`] maps three uniform numbers to `x1`, its volume density
+//! and the estimator weight `k(x1)/pdf(x1)` in the most stable closed form;
+//! [`Technique::pdf`] evaluates that density anywhere; [`Technique::invert`]
+//! maps `x1` back to the uniform numbers where the math allows.
+//!
+//! - [`Omnee`]: angle first, then the circumcircle arc (the new technique);
+//! - [`Equiangular`]: a ray from `x2`, distance equiangular towards `x0`
+//!   (Kulla & Fajardo 2012);
+//! - [`Distance`]: a ray from `x2`, exponential free-flight distance.
+//!
+//! All densities are in the volume measure (m⁻³), so [`crate::mis`] combines
+//! any set of them.
+
+mod directions;
+mod distance;
+mod equiangular;
+mod omnee;
+
+pub use directions::Directions;
+pub use distance::Distance;
+pub use equiangular::Equiangular;
+pub use omnee::Omnee;
+
+use crate::circumcircle::Axis;
+use crate::error::{Error, check_closed};
+use crate::phase::{Deflection, PhaseFunction};
+use crate::real::{Real, Vector};
+
+/// A sampled scattering vertex.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample<F: Real> {
+    /// The vertex `x1`.
+    pub x1: F::Vec3,
+    /// Its density in the volume measure (m⁻³), finite (saturates at `F::MAX`).
+    pub pdf: F,
+    /// The estimator `k(x1) / pdf(x1)` without `f_c` (m⁻¹), finite and ≥ 0.
+    pub weight: F,
+}
+
+/// A technique for placing `x1`: the sample / pdf / invert trio.
+///
+/// The trait is object safe, so [`crate::mis`] takes `&dyn Technique<F>`.
+pub trait Technique<F: Real> {
+    /// `x1` from three uniform numbers in `[0, 1)`; `None` when the numbers map
+    /// to no point that contributes (outside θmax, outside the medium, at an
+    /// end point).
+    fn sample(&self, u: [F; 3]) -> Option<Sample<F>>;
+
+    /// The volume density of [`sample`](Self::sample) at `x1` (0 where it
+    /// never samples; finite, saturating at `F::MAX`).
+    fn pdf(&self, x1: F::Vec3) -> F;
+
+    /// The uniform numbers that [`sample`](Self::sample) maps to `x1`, where
+    /// the map is invertible.
+    fn invert(&self, x1: F::Vec3) -> Option<[F; 3]>;
+
+    /// [`sample`](Self::sample) with uniform numbers from a `rand_core` generator.
+    #[inline]
+    fn sample_with<R: rand_core::Rng + ?Sized>(&self, rng: &mut R) -> Option<Sample<F>>
+    where
+        Self: Sized,
+    {
+        self.sample([uniform(rng), uniform(rng), uniform(rng)])
+    }
+}
+
+/// A uniform number in `[0, 1)` from a generator: the top 24 (f32) or 53
+/// (f64) bits of a 64-bit draw, scaled by `2^−bits`.
+#[inline]
+pub fn uniform<F: Real, R: rand_core::Rng + ?Sized>(rng: &mut R) -> F {
+    let bits = if F::EPSILON.to_f64() < 1e-10 { 53 } else { 24 };
+    let x = (rng.next_u64() >> (64 - bits)) as f64;
+    F::from_f64(x * libm::exp2(-(bits as f64)))
+}
+
+/// The fixed part of the integral: end points, axis frame and the restriction
+/// θ < θmax, shared by every technique.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Connection<F: Real> {
+    /// The end points and the frame about their axis.
+    pub axis: Axis<F>,
+    /// The integrand is restricted to deflections θ < θmax, θmax ∈ (0, π].
+    pub theta_max: F,
+}
+
+impl<F: Real> Connection<F> {
+    /// The connection from `x0` (light side) to `x2` (receiver side),
+    /// restricted to θ < `theta_max` ∈ (0, π]. Fails on non-finite or
+    /// coincident points and on θmax outside (0, π].
+    pub fn new(x0: F::Vec3, x2: F::Vec3, theta_max: F) -> Result<Self, Error> {
+        let axis = Axis::new(x0, x2)?;
+        // (0, π], where the precision's rounded π counts as π.
+        let pi = F::PI.to_f64().max(core::f64::consts::PI);
+        check_closed(
+            "theta_max",
+            theta_max.to_f64(),
+            f64::MIN_POSITIVE,
+            pi,
+            "(0, pi]",
+        )?;
+        Ok(Self {
+            axis,
+            theta_max: theta_max.min(F::PI),
+        })
+    }
+
+    /// The deflection at `x1`: θ between `ω1 = (x1 − x0)/d1` and
+    /// `ω2 = (x2 − x1)/d2` in cancellation-free form, with `(d1, d2)`;
+    /// `None` if `x1` coincides with an end point or is not finite.
+    #[inline]
+    pub fn deflection(&self, x1: F::Vec3) -> Option<(Deflection<F>, F, F)> {
+        let (a, b) = (x1 - self.axis.x0, self.axis.x2 - x1);
+        let (d1, d2) = (a.length(), b.length());
+        if !(d1 > F::ZERO && d2 > F::ZERO && d1.is_finite() && d2.is_finite()) {
+            return None;
+        }
+        Some((
+            Deflection::between(a * (F::ONE / d1), b * (F::ONE / d2)),
+            d1,
+            d2,
+        ))
+    }
+
+    /// The kernel `k(x1) = p(θ) / (d1² d2²)` for θ < θmax, else 0 (finite,
+    /// saturating).
+    #[inline]
+    pub fn kernel<P: PhaseFunction<F>>(&self, phase: &P, x1: F::Vec3) -> F {
+        match self.deflection(x1) {
+            Some((d, d1, d2)) if d.theta < self.theta_max => {
+                let r = F::ONE / (d1 * d2);
+                saturate(phase.eval(d) * r * r)
+            }
+            _ => F::ZERO,
+        }
+    }
+}
+
+/// A density or weight made safe to return: NaN → 0, +∞ → `F::MAX`.
+#[inline]
+pub(crate) fn saturate<F: Real>(x: F) -> F {
+    if x.is_finite() {
+        x
+    } else if x > F::ZERO {
+        F::MAX
+    } else {
+        F::ZERO
+    }
+}
