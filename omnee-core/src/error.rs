@@ -34,6 +34,14 @@ pub enum Error {
         /// What is wrong, in a few words.
         reason: &'static str,
     },
+    /// A specification string is malformed (unknown name, wrong number of
+    /// parameters, a parameter that is not a number).
+    Syntax {
+        /// The part of the specification (e.g. `"phase"`, `"g"`).
+        field: &'static str,
+        /// What is wrong, in a few words.
+        reason: &'static str,
+    },
 }
 
 impl Error {
@@ -43,7 +51,8 @@ impl Error {
             Error::OutOfRange { field, .. }
             | Error::NotFinite { field }
             | Error::Degenerate { field, .. }
-            | Error::Table { field, .. } => field,
+            | Error::Table { field, .. }
+            | Error::Syntax { field, .. } => field,
         }
     }
 }
@@ -61,6 +70,7 @@ impl fmt::Display for Error {
             Error::NotFinite { field } => write!(f, "{field} has a non-finite component"),
             Error::Degenerate { field, reason } => write!(f, "{field}: {reason}"),
             Error::Table { field, reason } => write!(f, "table {field}: {reason}"),
+            Error::Syntax { field, reason } => write!(f, "syntax error in {field}: {reason}"),
         }
     }
 }

@@ -16,9 +16,15 @@
 
 mod henyey_greenstein;
 mod isotropic;
+mod mixture;
+mod rayleigh;
+#[cfg(test)]
+mod testing;
 
 pub use henyey_greenstein::HenyeyGreenstein;
 pub use isotropic::Isotropic;
+pub use mixture::{Mixture, TwoTermHg};
+pub use rayleigh::Rayleigh;
 
 use crate::real::{Real, Vector};
 
