@@ -28,7 +28,7 @@ impl<F: Real> HenyeyGreenstein<F> {
     /// `1 + g² − 2g cos θ`, written without cancellation for either sign of g:
     /// `(1 − g)² + 2g (1 − cos θ)` for g ≥ 0, `(1 + g)² − 2g (1 + cos θ)` for g < 0.
     #[inline]
-    fn denominator(&self, d: Deflection<F>) -> F {
+    pub(crate) fn denominator(&self, d: Deflection<F>) -> F {
         let g = self.g;
         if g >= F::ZERO {
             (F::ONE - g).sqr() + F::TWO * g * d.one_minus_cos

@@ -14,13 +14,16 @@
 //! Each phase function implements [`PhaseFunction`]: `eval`, an inverse-CDF
 //! `sample`, its `cdf` (so `cdf(sample(u)) = u`), and the mean cosine.
 
+mod draine;
 mod henyey_greenstein;
+mod invert;
 mod isotropic;
 mod mixture;
 mod rayleigh;
 #[cfg(test)]
 mod testing;
 
+pub use draine::{DRAINE_ALPHA_MAX, Draine};
 pub use henyey_greenstein::HenyeyGreenstein;
 pub use isotropic::Isotropic;
 pub use mixture::{Mixture, TwoTermHg};
