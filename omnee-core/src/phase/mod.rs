@@ -15,6 +15,7 @@
 //! `sample`, its `cdf` (so `cdf(sample(u)) = u`), and the mean cosine.
 
 mod draine;
+mod fournier_forand;
 mod henyey_greenstein;
 mod invert;
 mod isotropic;
@@ -24,6 +25,7 @@ mod rayleigh;
 mod testing;
 
 pub use draine::{DRAINE_ALPHA_MAX, Draine};
+pub use fournier_forand::{FF_N_MAX, FF_N_MIN, FournierForand};
 pub use henyey_greenstein::HenyeyGreenstein;
 pub use isotropic::Isotropic;
 pub use mixture::{Mixture, TwoTermHg};

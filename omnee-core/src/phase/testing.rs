@@ -163,6 +163,11 @@ pub fn f32_eval_error<P32: PhaseFunction<f32>, P64: PhaseFunction<f64>>(
             one_minus_cos: d32.one_minus_cos as f64,
             one_plus_cos: d32.one_plus_cos as f64,
         };
+        // Below the normal range of f32 the angle is not representable
+        // (a singular peak is evaluated at the smallest normal instead).
+        if d32.one_minus_cos < f32::MIN_POSITIVE {
+            continue;
+        }
         let a = p64.eval(dd);
         let b = p32.eval(d32) as f64;
         if a > 1e-30 {
