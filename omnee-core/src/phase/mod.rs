@@ -19,6 +19,7 @@ mod fournier_forand;
 mod henyey_greenstein;
 mod invert;
 mod isotropic;
+mod mie;
 mod mixture;
 mod rayleigh;
 #[cfg(test)]
@@ -28,6 +29,7 @@ pub use draine::{DRAINE_ALPHA_MAX, Draine};
 pub use fournier_forand::{FF_N_MAX, FF_N_MIN, FournierForand};
 pub use henyey_greenstein::HenyeyGreenstein;
 pub use isotropic::Isotropic;
+pub use mie::{MIE_DIAMETER_MAX_UM, Mie, MieFit, mie_fit};
 pub use mixture::{Mixture, TwoTermHg};
 pub use rayleigh::Rayleigh;
 
