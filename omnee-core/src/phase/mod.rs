@@ -22,6 +22,7 @@ mod isotropic;
 mod mie;
 mod mixture;
 mod rayleigh;
+mod tabulated;
 #[cfg(test)]
 mod testing;
 
@@ -32,6 +33,7 @@ pub use isotropic::Isotropic;
 pub use mie::{MIE_DIAMETER_MAX_UM, Mie, MieFit, mie_fit};
 pub use mixture::{Mixture, TwoTermHg};
 pub use rayleigh::Rayleigh;
+pub use tabulated::Tabulated;
 
 use crate::real::{Real, Vector};
 
