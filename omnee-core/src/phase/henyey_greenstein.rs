@@ -53,11 +53,17 @@ impl<F: Real> PhaseFunction<F> for HenyeyGreenstein<F> {
     /// `1 + cos θ = (1 + g)(1 − u)(q + 1 + g) / k`,
     ///
     /// both free of cancellation and of a division by g (g = 0 gives the
-    /// isotropic `1 − cos θ = 2u`).
+    /// isotropic `1 − cos θ = 2u`). `k` itself is summed from non-negative
+    /// terms, `(1 − g) + 2g(1 − u)` for g ≥ 0 and `(1 + g) − 2gu` for g < 0
+    /// (`1 + g − 2gu` cancels for g → 1, u → 1: 1e-13 relative at g = 0.997).
     #[inline]
     fn sample(&self, u: F) -> Deflection<F> {
         let g = self.g;
-        let k = F::ONE + g - F::TWO * g * u;
+        let k = if g >= F::ZERO {
+            (F::ONE - g) + F::TWO * g * (F::ONE - u)
+        } else {
+            (F::ONE + g) - F::TWO * g * u
+        };
         let q = (F::ONE - g) * (F::ONE + g) / k;
         let one_minus_cos = (F::ONE - g) * u * (q + F::ONE - g) / k;
         let one_plus_cos = (F::ONE + g) * (F::ONE - u) * (q + F::ONE + g) / k;
