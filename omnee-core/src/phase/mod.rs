@@ -22,6 +22,7 @@ mod isotropic;
 mod mie;
 mod mixture;
 mod rayleigh;
+mod spec;
 mod tabulated;
 #[cfg(test)]
 mod testing;
@@ -33,6 +34,7 @@ pub use isotropic::Isotropic;
 pub use mie::{MIE_DIAMETER_MAX_UM, Mie, MieFit, mie_fit};
 pub use mixture::{Mixture, TwoTermHg};
 pub use rayleigh::Rayleigh;
+pub use spec::Spec;
 pub use tabulated::Tabulated;
 
 use crate::real::{Real, Vector};
@@ -196,5 +198,168 @@ impl<F: Real, P: PhaseFunction<F> + ?Sized> PhaseFunction<F> for &P {
     #[inline]
     fn invert(&self, d: Deflection<F>) -> Option<F> {
         (**self).invert(d)
+    }
+}
+
+/// Any phase function of this module, for run-time selection (e.g. from a
+/// [`Spec`] string). Every method dispatches to the variant's own.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Phase<'a, F> {
+    /// `p = 1/(4π)`.
+    Isotropic(Isotropic),
+    /// `p = (1 − g²)/(4π (1 + g² − 2g cos θ)^{3/2})`.
+    HenyeyGreenstein(HenyeyGreenstein<F>),
+    /// `w·HG(g1) + (1 − w)·HG(g2)`.
+    TwoTermHg(TwoTermHg<F>),
+    /// Fournier–Forand with backscatter fraction B and refractive index n.
+    FournierForand(FournierForand<F>),
+    /// Draine: HG times `(1 + α cos²θ)`, normalised.
+    Draine(Draine<F>),
+    /// Approximate Mie: `(1 − w)·HG + w·Draine` fitted to droplet diameter.
+    Mie(Mie<F>),
+    /// `p = 3/(16π) (1 + cos²θ)`.
+    Rayleigh(Rayleigh),
+    /// A caller-owned table, constant per solid angle in each bin.
+    Tabulated(Tabulated<'a, F>),
+}
+
+/// Calls `$method` on whichever phase function `$self` holds.
+macro_rules! dispatch {
+    ($self:expr, $p:ident => $call:expr) => {
+        match $self {
+            Phase::Isotropic($p) => $call,
+            Phase::HenyeyGreenstein($p) => $call,
+            Phase::TwoTermHg($p) => $call,
+            Phase::FournierForand($p) => $call,
+            Phase::Draine($p) => $call,
+            Phase::Mie($p) => $call,
+            Phase::Rayleigh($p) => $call,
+            Phase::Tabulated($p) => $call,
+        }
+    };
+}
+
+impl<F: Real> PhaseFunction<F> for Phase<'_, F> {
+    /// The variant's `p(θ)`.
+    #[inline]
+    fn eval(&self, d: Deflection<F>) -> F {
+        dispatch!(self, p => p.eval(d))
+    }
+    /// The variant's sampler.
+    #[inline]
+    fn sample(&self, u: F) -> Deflection<F> {
+        dispatch!(self, p => p.sample(u))
+    }
+    /// The variant's `P(Θ ≤ θ)`.
+    #[inline]
+    fn cdf(&self, d: Deflection<F>) -> F {
+        dispatch!(self, p => p.cdf(d))
+    }
+    /// The variant's mean cosine.
+    #[inline]
+    fn mean_cosine(&self) -> F {
+        dispatch!(self, p => PhaseFunction::<F>::mean_cosine(p))
+    }
+    /// The variant's pdf (its `eval`).
+    #[inline]
+    fn pdf(&self, d: Deflection<F>) -> F {
+        dispatch!(self, p => p.pdf(d))
+    }
+    /// The variant's inverse (`None` for the mixtures).
+    #[inline]
+    fn invert(&self, d: Deflection<F>) -> Option<F> {
+        dispatch!(self, p => p.invert(d))
+    }
+    /// The variant's backscatter fraction.
+    #[inline]
+    fn backscatter_fraction(&self) -> F {
+        dispatch!(self, p => PhaseFunction::<F>::backscatter_fraction(p))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::testing::*;
+    use super::*;
+    use std::string::ToString;
+
+    const SPECS: [&str; 11] = [
+        "iso",
+        "hg:0.9",
+        "hg:-0.6",
+        "hg:0.997",
+        "hg:0",
+        "rayleigh",
+        "tthg:0.99,-0.44,0.96",
+        "ff:0.0183,1.1",
+        "draine:0.5557,22",
+        "mie:10",
+        "mie:0.5",
+    ];
+
+    fn phase<F: Real>(s: &str) -> Phase<'static, F> {
+        match Spec::<F>::parse(s).unwrap() {
+            Spec::Analytic(p) => p,
+            Spec::Table { .. } => unreachable!(),
+        }
+    }
+
+    #[test]
+    fn every_analytic_phase_function_passes_the_common_checks() {
+        let mut worst = [0.0f64; 4];
+        for s in SPECS {
+            let p64 = phase::<f64>(s);
+            let p32 = phase::<f32>(s);
+            let e = [normalisation_error(&p64), cdf_error(&p64), mean_error(&p64)];
+            assert!(e.iter().all(|&v| v < 1e-6), "{s}: {e:?}");
+            assert_eval_finite::<f64, _>(&p64);
+            assert_eval_finite::<f32, _>(&p32);
+            let p64r = phase::<f64>(&std_string(&p32));
+            let r = f32_eval_error(&p32, &p64r);
+            assert!(r < 1e-4, "{s}: f32 eval off by {r}");
+            let inv = p64.invert(Deflection::from_theta(0.5)).is_some();
+            let i = if inv {
+                inversion_error::<f64, _>(&p64)
+            } else {
+                stratified_cdf_error(&p64)
+            };
+            assert!(i < if inv { 1e-12 } else { 5e-4 }, "{s}: {i}");
+            if inv {
+                assert!(inversion_error::<f32, _>(&p32) < 1e-5, "{s}");
+            }
+            for k in 0..3 {
+                worst[k] = worst[k].max(e[k]);
+            }
+            worst[3] = worst[3].max(r);
+        }
+        report("all: normalisation", worst[0]);
+        report("all: cdf vs quadrature", worst[1]);
+        report("all: mean cosine vs quadrature", worst[2]);
+        report("all: f32 vs f64 eval (relative)", worst[3]);
+    }
+
+    /// The f32 phase function's spec, re-parsed in f64 (same parameters).
+    fn std_string(p: &Phase<'static, f32>) -> std::string::String {
+        p.to_string()
+    }
+
+    #[test]
+    fn dispatch_reaches_the_variant() {
+        let hg = HenyeyGreenstein::<f64>::new(0.7).unwrap();
+        let p = Phase::HenyeyGreenstein(hg);
+        let d = Deflection::from_theta(0.2);
+        assert_eq!(p.eval(d), hg.eval(d));
+        assert_eq!(p.cdf(d), hg.cdf(d));
+        assert_eq!(p.sample(0.3), hg.sample(0.3));
+        assert_eq!(p.mean_cosine(), 0.7);
+        assert_eq!(p.invert(d), Some(hg.cdf(d)));
+        let m = phase::<f64>("mie:10");
+        assert_eq!(m.invert(d), None);
+        let theta = [0.0, 1.0, core::f64::consts::PI];
+        let mut buf = [0.0; 3];
+        let t = Phase::Tabulated(Tabulated::new(&theta, &[1.0, 1.0], &mut buf).unwrap());
+        assert!((t.cdf(d) - Isotropic.cdf(d)).abs() < 1e-15);
+        assert!((t.backscatter_fraction() - 0.5).abs() < 1e-15);
     }
 }
