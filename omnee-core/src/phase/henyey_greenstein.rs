@@ -39,7 +39,8 @@ impl<F: Real> HenyeyGreenstein<F> {
 }
 
 impl<F: Real> PhaseFunction<F> for HenyeyGreenstein<F> {
-    /// `p(θ) = (1 − g)(1 + g) / (4π D^{3/2})`, `D` from [`Self::denominator`].
+    /// `p(θ) = (1 − g)(1 + g) / (4π D^{3/2})`, `D = 1 + g² − 2g cos θ` in the
+    /// cancellation-free form of `denominator`.
     #[inline]
     fn eval(&self, d: Deflection<F>) -> F {
         let g = self.g;

@@ -101,13 +101,10 @@ impl<F: Real> Deflection<F> {
     pub fn between<V: Vector<F>>(omega1: V, omega2: V) -> Self {
         let minus = (omega1 - omega2).length_squared();
         let plus = (omega1 + omega2).length_squared();
-        // Renormalise so the pair sums to 2 even for slightly non-unit input.
+        // For unit vectors minus + plus = 4; dividing by the actual sum keeps
+        // the pair summing to 2 for slightly non-unit input.
         let k = F::TWO / (minus + plus);
-        Self {
-            theta: F::TWO * minus.sqrt().atan2(plus.sqrt()),
-            one_minus_cos: minus * F::HALF * k,
-            one_plus_cos: plus * F::HALF * k,
-        }
+        Self { theta: F::TWO * minus.sqrt().atan2(plus.sqrt()), one_minus_cos: minus * k, one_plus_cos: plus * k }
     }
 
     /// cos θ, from whichever versine is smaller (so it is accurate near ±1 in

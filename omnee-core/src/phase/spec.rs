@@ -1,35 +1,37 @@
 //! Phase functions from short specification strings (command line, config).
 //!
-//! Syntax (names lower case, parameters comma-separated decimal numbers,
-//! surrounding whitespace ignored):
-//!
-//! | spec | phase function | parameters (allowed) |
-//! |---|---|---|
-//! | `iso` | [`Isotropic`] | — |
-//! | `hg:G` | [`HenyeyGreenstein`] | `g ∈ (−1, 1)` |
-//! | `tthg:G1,G2,W` | [`TwoTermHg`]: `W·HG(G1) + (1 − W)·HG(G2)` | `g1, g2 ∈ (−1, 1)`, `w ∈ [0, 1]` |
-//! | `ff:B,N` | [`FournierForand`] | `backscatter ∈ (0, 0.5)`, `n ∈ [1.001, 1.5]` |
-//! | `draine:G,ALPHA` | [`Draine`] | `g ∈ (−1, 1)`, `alpha ∈ [0, 1000]` |
-//! | `mie:DIAMETER_UM` | [`Mie`] | `diameter_um ∈ (0, 50]` |
-//! | `rayleigh` | [`Rayleigh`] | — |
-//! | `table:FILE.csv` | [`Tabulated`], loaded by the caller | a path (may contain `:`) |
-//!
-//! Example: `tthg:0.99,-0.44,0.96`. The core does no I/O, so `table:` yields
-//! [`Spec::Table`] with the path and the caller builds the [`Tabulated`].
-//! Errors are [`Error::Syntax`] (unknown name, wrong parameter count, not a
-//! number; `field` is the name or the parameter) or the constructors'
-//! [`Error::OutOfRange`] naming the parameter and its range. Parsing does not
-//! allocate. [`Display`](core::fmt::Display) writes the same syntax back
-//! (shortest round-trip decimals), so `parse(spec.to_string())` gives `spec`.
+//! The syntax is documented on [`Spec`] (this module is private).
 
 use super::{Draine, FournierForand, HenyeyGreenstein, Isotropic, Mie, Mixture, Phase, Rayleigh};
-#[allow(unused_imports)] // named by the module documentation
+#[allow(unused_imports)] // named by the documentation of `Spec`
 use super::{Tabulated, TwoTermHg};
 use crate::error::Error;
 use crate::real::Real;
 use core::fmt;
 
-/// A parsed specification: an analytic phase function, or a table to load.
+/// A parsed phase-function specification string.
+///
+/// Syntax (names lower case, parameters comma-separated decimal numbers,
+/// surrounding whitespace ignored):
+///
+/// | spec | phase function | parameters (allowed) |
+/// |---|---|---|
+/// | `iso` | [`Isotropic`] | — |
+/// | `hg:G` | [`HenyeyGreenstein`] | `g ∈ (−1, 1)` |
+/// | `tthg:G1,G2,W` | [`TwoTermHg`]: `W·HG(G1) + (1 − W)·HG(G2)` | `g1, g2 ∈ (−1, 1)`, `w ∈ [0, 1]` |
+/// | `ff:B,N` | [`FournierForand`] | `backscatter ∈ (0, 0.5)`, `n ∈ [1.001, 1.5]` |
+/// | `draine:G,ALPHA` | [`Draine`] | `g ∈ (−1, 1)`, `alpha ∈ [0, 1000]` |
+/// | `mie:DIAMETER_UM` | [`Mie`] | `diameter_um ∈ (0, 50]` |
+/// | `rayleigh` | [`Rayleigh`] | — |
+/// | `table:FILE.csv` | [`Tabulated`], loaded by the caller | a path (may contain `:`) |
+///
+/// Example: `tthg:0.99,-0.44,0.96`. The core does no I/O, so `table:` yields
+/// [`Spec::Table`] with the path and the caller builds the [`Tabulated`].
+/// Errors are [`Error::Syntax`] (unknown name, wrong parameter count, not a
+/// number; `field` is the name or the parameter) or the constructors'
+/// [`Error::OutOfRange`] naming the parameter and its range. Parsing does not
+/// allocate. [`Display`](core::fmt::Display) writes the same syntax back
+/// (shortest round-trip decimals), so `parse(spec.to_string())` gives `spec`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Spec<'s, F: 'static> {
     /// A phase function with all its parameters.
@@ -70,7 +72,7 @@ fn numbers<const N: usize>(
 }
 
 impl<'s, F: Real> Spec<'s, F> {
-    /// Parses the syntax of the [module documentation](self).
+    /// Parses the syntax above.
     pub fn parse(spec: &'s str) -> Result<Self, Error> {
         let spec = spec.trim();
         let (name, args) = match spec.split_once(':') {
