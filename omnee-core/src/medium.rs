@@ -8,7 +8,7 @@ use crate::real::{Real, Vector};
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Homogeneous<F> {
     sigma_s: F,
-    sigma_a: F,
+    sigma_t: F,
 }
 
 impl<F: Real> Homogeneous<F> {
@@ -16,7 +16,16 @@ impl<F: Real> Homogeneous<F> {
     pub fn new(sigma_s: F, sigma_a: F) -> Result<Self, Error> {
         check_closed("sigma_s", sigma_s.to_f64(), 0.0, f64::MAX, "[0, inf)")?;
         check_closed("sigma_a", sigma_a.to_f64(), 0.0, f64::MAX, "[0, inf)")?;
-        Ok(Self { sigma_s, sigma_a })
+        Self::from_extinction(sigma_s, sigma_s + sigma_a)
+    }
+
+    /// A medium given by `σs ≥ 0` and `σt ≥ 0` (finite). Unlike [`Self::new`]
+    /// it accepts `σt < σs`: analytic test problems use σt = 0 with σs > 0 to
+    /// switch attenuation off (MATH.md §5, §6).
+    pub fn from_extinction(sigma_s: F, sigma_t: F) -> Result<Self, Error> {
+        check_closed("sigma_s", sigma_s.to_f64(), 0.0, f64::MAX, "[0, inf)")?;
+        check_closed("sigma_t", sigma_t.to_f64(), 0.0, f64::MAX, "[0, inf)")?;
+        Ok(Self { sigma_s, sigma_t })
     }
 
     /// The scattering coefficient σs.
@@ -25,16 +34,16 @@ impl<F: Real> Homogeneous<F> {
         self.sigma_s
     }
 
-    /// The absorption coefficient σa.
+    /// The absorption coefficient `σa = σt − σs`.
     #[inline]
     pub fn sigma_a(&self) -> F {
-        self.sigma_a
+        self.sigma_t - self.sigma_s
     }
 
     /// The extinction coefficient `σt = σs + σa`.
     #[inline]
     pub fn sigma_t(&self) -> F {
-        self.sigma_s + self.sigma_a
+        self.sigma_t
     }
 
     /// Transmittance over a distance `d`: `T(d) = exp(−σt d)`.

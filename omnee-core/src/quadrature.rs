@@ -58,7 +58,10 @@ fn adapt<G: FnMut(f64) -> f64>(
     depth: u32,
 ) -> f64 {
     let (estimate, error) = whole;
-    if error <= tol || depth == 0 || !error.is_finite() {
+    // Below ~100 ulp of the panel's value the error estimate is round-off, and
+    // halving the tolerance further would only bisect noise.
+    let floor = 128.0 * f64::EPSILON * estimate.abs();
+    if error <= tol.max(floor) || depth == 0 || !error.is_finite() {
         return estimate;
     }
     let m = 0.5 * (a + b);

@@ -77,14 +77,26 @@ impl<F: Real> Line<F> {
         })
     }
 
-    /// `v = D tan(θ_a + ξ(θ_b − θ_a))` by the tangent addition formula,
-    /// `v = D (a + D τ) / (D − a τ)`, `τ = tan(ξ(θ_b − θ_a))`; for D = 0,
-    /// `v = ab / (b + (a − b) ξ)`.
+    /// `v = D tan(θ_a + ξ(θ_b − θ_a))` by the tangent addition formula, from
+    /// the nearer end of the angle range so that nothing cancels:
+    /// `v = D (a + D τ) / (D − a τ)`, `τ = tan(ξ(θ_b − θ_a))` for ξ ≤ ½, and
+    /// `v = D (b − D τ') / (D + b τ')`, `τ' = tan((1 − ξ)(θ_b − θ_a))` for
+    /// ξ > ½, which is `v = D / τ'` on an unbounded ray (the f32 position of
+    /// far samples stays accurate). For D = 0, `v = ab / (b + (a − b) ξ)`.
     fn offset(&self, xi: F) -> F {
         let (d, a, b) = (self.dist, self.a, self.b);
         if d > F::ZERO && self.subtended > F::ZERO {
-            let tau = (xi * self.subtended).tan();
-            d * (a + d * tau) / (d - a * tau)
+            if xi <= F::HALF {
+                let tau = (xi * self.subtended).tan();
+                d * (a + d * tau) / (d - a * tau)
+            } else {
+                let tau = ((F::ONE - xi) * self.subtended).tan();
+                if b.is_finite() {
+                    d * (b - d * tau) / (d + b * tau)
+                } else {
+                    d / tau
+                }
+            }
         } else if b.is_finite() {
             a * b / (b + (a - b) * xi)
         } else {

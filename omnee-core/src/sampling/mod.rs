@@ -156,3 +156,8 @@ pub(crate) fn saturate<F: Real>(x: F) -> F {
         F::ZERO
     }
 }
+
+#[cfg(test)]
+extern crate std;
+#[cfg(test)]
+mod tests;
