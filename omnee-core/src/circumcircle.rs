@@ -282,7 +282,7 @@ mod tests {
 
     #[test]
     fn fractional_distance_is_the_talks_formula() {
-        for &(theta, u) in &[(0.3f64, 0.2f64), (1.2, 0.7), (1.5707, 0.5), (1e-6, 0.4)] {
+        for &(theta, u) in &[(0.3f64, 0.2f64), (1.2, 0.7), (1.5, 0.5), (1e-6, 0.4)] {
             let t = fractional_distance(Angles {
                 theta,
                 beta_ratio: u,
