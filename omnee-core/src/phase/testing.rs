@@ -212,7 +212,7 @@ pub fn stratified_cdf_error<F: Real, P: PhaseFunction<F>>(p: &P) -> f64 {
 
 /// Prints a measured number when the tests run with `--nocapture`.
 pub fn report(what: &str, value: f64) {
-    std::eprintln!("{what}: {value:.3e}");
+    std::eprintln!("{what}: {value:.6e}");
 }
 
 /// Integrates a smooth function of θ over [a, b] (for bins of a table).
