@@ -104,7 +104,11 @@ impl<F: Real> Deflection<F> {
         // For unit vectors minus + plus = 4; dividing by the actual sum keeps
         // the pair summing to 2 for slightly non-unit input.
         let k = F::TWO / (minus + plus);
-        Self { theta: F::TWO * minus.sqrt().atan2(plus.sqrt()), one_minus_cos: minus * k, one_plus_cos: plus * k }
+        Self {
+            theta: F::TWO * minus.sqrt().atan2(plus.sqrt()),
+            one_minus_cos: minus * k,
+            one_plus_cos: plus * k,
+        }
     }
 
     /// cos θ, from whichever versine is smaller (so it is accurate near ±1 in
