@@ -1,0 +1,214 @@
+//! Phase function specs (`iso`, `hg:G`, `tthg:G1,G2,W`, `ff:B,N`,
+//! `draine:G,ALPHA`, `mie:DIAMETER_UM`, `rayleigh`, `table:FILE.csv`), parsed
+//! by the core's [`Spec`]; this module only reads the CSV of `table:`.
+//!
+//! A table file has one `angle_deg,value` pair per line (blank lines, lines
+//! starting with `#` and a non-numeric header line are skipped): the phase
+//! function's relative value at that deflection angle, angles strictly
+//! increasing in [0, 180]. The core's [`Tabulated`] needs bins; bin `i`
+//! spans from the midpoint with the previous angle to the midpoint with the
+//! next one (the first starts at 0°, the last ends at 180°), with the value
+//! of its angle: nearest-neighbour in θ, normalised by the core.
+
+use crate::error::{CliError, Result, core_error};
+use omnee_core::Real;
+use omnee_core::phase::{Phase, Spec, Tabulated};
+use std::fmt;
+
+/// A validated phase function spec: the text, and the table if it names one.
+#[derive(Clone, Debug)]
+pub struct PhaseSpec {
+    text: String,
+    /// Bin edges (radians, `n + 1`) and values (`n`) of a `table:` spec.
+    table: Option<(Vec<f64>, Vec<f64>)>,
+}
+
+/// Owned storage for a tabulated phase function in precision `F`: the core's
+/// [`Tabulated`] borrows its bins from the caller.
+#[derive(Debug, Default)]
+pub struct TableStorage<F> {
+    theta: Vec<F>,
+    values: Vec<F>,
+    cdf: Vec<F>,
+}
+
+impl PhaseSpec {
+    /// Parses `text`; a `table:` spec reads and checks its CSV file now.
+    pub fn parse(text: &str) -> Result<Self> {
+        let spec = Spec::<f64>::parse(text).map_err(|e| spec_error(text, e))?;
+        let table = match spec {
+            Spec::Analytic(_) => None,
+            Spec::Table { path } => Some(read_table(path)?),
+        };
+        let spec = Self {
+            text: text.trim().to_string(),
+            table,
+        };
+        // Build once in both precisions so that a table the core rejects
+        // fails here, with its field named, and not in the middle of a run.
+        spec.instantiate::<f32>(&mut TableStorage::default())?;
+        spec.instantiate::<f64>(&mut TableStorage::default())?;
+        Ok(spec)
+    }
+
+    /// The phase function in precision `F`, borrowing `storage` for a table.
+    pub fn instantiate<'a, F: Real>(
+        &self,
+        storage: &'a mut TableStorage<F>,
+    ) -> Result<Phase<'a, F>> {
+        match &self.table {
+            None => match Spec::<F>::parse(&self.text).map_err(|e| spec_error(&self.text, e))? {
+                Spec::Analytic(p) => Ok(p),
+                Spec::Table { .. } => unreachable!("a table spec always has its table"),
+            },
+            Some((theta, values)) => {
+                storage.theta = theta.iter().map(|&x| F::from_f64(x)).collect();
+                // The last edge is π exactly in the target precision.
+                if let Some(last) = storage.theta.last_mut() {
+                    *last = F::PI;
+                }
+                storage.values = values.iter().map(|&x| F::from_f64(x)).collect();
+                storage.cdf = vec![F::ZERO; theta.len()];
+                let t = Tabulated::new(&storage.theta, &storage.values, &mut storage.cdf)
+                    .map_err(|e| core_error(&format!("phase {}", self.text), e))?;
+                Ok(Phase::Tabulated(t))
+            }
+        }
+    }
+}
+
+impl fmt::Display for PhaseSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.text)
+    }
+}
+
+fn spec_error(text: &str, e: omnee_core::Error) -> CliError {
+    CliError::Input(format!(
+        "phase \"{}\": {e}; allowed: iso, hg:G, tthg:G1,G2,W, ff:B,N, draine:G,ALPHA, mie:DIAMETER_UM, rayleigh, table:FILE.csv",
+        text.trim()
+    ))
+}
+
+/// Reads `angle_deg,value` lines into bin edges and values.
+fn read_table(path: &str) -> Result<(Vec<f64>, Vec<f64>)> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| CliError::Input(format!("phase table:{path}: cannot read: {e}")))?;
+    let mut angles = Vec::new();
+    let mut values = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let err =
+            |what: &str| CliError::Input(format!("phase table:{path}, line {}: {what}", i + 1));
+        let mut cols = line.split(',').map(str::trim);
+        let (a, v) = (cols.next().unwrap_or(""), cols.next().unwrap_or(""));
+        if cols.next().is_some() {
+            return Err(err(&format!(
+                "\"{line}\" has more than 2 columns; allowed: angle_deg,value"
+            )));
+        }
+        let (a, v) = match (a.parse::<f64>(), v.parse::<f64>()) {
+            (Ok(a), Ok(v)) => (a, v),
+            _ if angles.is_empty() && values.is_empty() && i == first_data_line(&text) => continue, // header
+            _ => {
+                return Err(err(&format!(
+                    "\"{line}\" is not two numbers; allowed: angle_deg,value"
+                )));
+            }
+        };
+        let lo = angles.last().copied().unwrap_or(-f64::MIN_POSITIVE);
+        if !(a > lo && (0.0..=180.0).contains(&a)) {
+            return Err(err(&format!(
+                "angle_deg = {a} is out of range; allowed: ({lo}, 180], increasing from 0"
+            )));
+        }
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(err(&format!(
+                "value = {v} is out of range; allowed: [0, inf)"
+            )));
+        }
+        angles.push(a);
+        values.push(v);
+    }
+    if angles.is_empty() {
+        return Err(CliError::Input(format!(
+            "phase table:{path}: no data lines; allowed: one or more angle_deg,value lines"
+        )));
+    }
+    let rad = |d: f64| d.to_radians();
+    let mut edges = vec![0.0];
+    for w in angles.windows(2) {
+        edges.push(rad(0.5 * (w[0] + w[1])));
+    }
+    edges.push(std::f64::consts::PI);
+    Ok((edges, values))
+}
+
+/// The index of the first line that is neither blank nor a comment.
+fn first_data_line(text: &str) -> usize {
+    text.lines()
+        .position(|l| {
+            let l = l.trim();
+            !l.is_empty() && !l.starts_with('#')
+        })
+        .unwrap_or(0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use omnee_core::phase::PhaseFunction;
+
+    #[test]
+    fn analytic_specs_parse_in_both_precisions() {
+        for s in [
+            "iso",
+            "hg:0.9",
+            "tthg:0.99,-0.44,0.96",
+            "ff:0.0183,1.1",
+            "draine:0.5,1",
+            "mie:10",
+            "rayleigh",
+        ] {
+            let p = PhaseSpec::parse(s).unwrap();
+            let mut t = TableStorage::<f32>::default();
+            let f = p.instantiate(&mut t).unwrap();
+            assert!(f.mean_cosine().is_finite(), "{s}");
+        }
+    }
+
+    #[test]
+    fn bad_specs_name_the_parameter() {
+        let e = PhaseSpec::parse("hg:1.5").unwrap_err().to_string();
+        assert!(e.contains("g = 1.5") && e.contains("(-1, 1)"), "{e}");
+        let e = PhaseSpec::parse("blob").unwrap_err().to_string();
+        assert!(e.contains("blob") && e.contains("allowed"), "{e}");
+    }
+
+    #[test]
+    fn a_flat_table_is_isotropic() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("flat.csv");
+        std::fs::write(&path, "angle_deg,value\n0,1\n90,1\n180,1\n").unwrap();
+        let p = PhaseSpec::parse(&format!("table:{}", path.display())).unwrap();
+        let mut t = TableStorage::<f64>::default();
+        let f = p.instantiate(&mut t).unwrap();
+        assert!(f.mean_cosine().abs() < 1e-12);
+        let d = omnee_core::phase::Deflection::from_theta(1.0);
+        assert!((f.eval(d) - 0.25 / std::f64::consts::PI).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_bad_table_names_its_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bad.csv");
+        std::fs::write(&path, "0,1\n90,-1\n").unwrap();
+        let e = PhaseSpec::parse(&format!("table:{}", path.display()))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("line 2") && e.contains("value = -1"), "{e}");
+    }
+}
