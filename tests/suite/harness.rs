@@ -5,7 +5,9 @@
 
 use glam::DVec3;
 use omnee::Real;
-use omnee::phase::{Draine, HenyeyGreenstein, Isotropic, Mixture, PhaseFunction, Rayleigh};
+use omnee::phase::{
+    Draine, FournierForand, HenyeyGreenstein, Isotropic, Mie, Mixture, PhaseFunction, Rayleigh,
+};
 
 /// SplitMix64 (Steele, Lea, Flood 2014): a tiny seeded generator. Every test
 /// seeds its own stream, so results do not depend on test order or threads.
@@ -66,6 +68,10 @@ pub enum PhaseSpec {
     TwoTerm(f64, f64, f64),
     /// Draine with (g, α).
     Draine(f64, f64),
+    /// Fournier–Forand with (backscatter fraction B, refractive index n).
+    Ff(f64, f64),
+    /// Approximate Mie for a droplet diameter in µm.
+    Mie(f64),
 }
 
 impl PhaseSpec {
@@ -81,13 +87,30 @@ impl PhaseSpec {
                 Box::new(Mixture::two_term(f(g1), f(g2), f(w)).unwrap())
             }
             PhaseSpec::Draine(g, a) => Box::new(Draine::new(f(g), f(a)).unwrap()),
+            PhaseSpec::Ff(b, n) => Box::new(FournierForand::new(f(b), f(n)).unwrap()),
+            PhaseSpec::Mie(d) => Box::new(Mie::new(f(d)).unwrap()),
+        }
+    }
+
+    /// The same spec with every parameter rounded to f32, so an f64 instance
+    /// has exactly the parameters of the f32 one (1 − g for g = 0.9999 moves
+    /// by 6e-4 relative in the rounding alone).
+    pub fn rounded_to_f32(self) -> Self {
+        let r = |x: f64| x as f32 as f64;
+        match self {
+            PhaseSpec::Hg(g) => PhaseSpec::Hg(r(g)),
+            PhaseSpec::TwoTerm(a, b, w) => PhaseSpec::TwoTerm(r(a), r(b), r(w)),
+            PhaseSpec::Draine(g, a) => PhaseSpec::Draine(r(g), r(a)),
+            PhaseSpec::Ff(b, n) => PhaseSpec::Ff(r(b), r(n)),
+            PhaseSpec::Mie(d) => PhaseSpec::Mie(r(d)),
+            other => other,
         }
     }
 
     /// Whether `sample` is the inverse of `cdf` (false for mixtures, which
     /// spend part of `u` on the lobe choice).
     pub fn inverse_cdf(self) -> bool {
-        !matches!(self, PhaseSpec::TwoTerm(..))
+        !matches!(self, PhaseSpec::TwoTerm(..) | PhaseSpec::Mie(..))
     }
 }
 

@@ -7,3 +7,5 @@
 
 mod chi2;
 mod harness;
+mod properties;
+mod stability;
