@@ -1,2 +1,24 @@
-//! wasm-bindgen bindings of omnee-core (filled in by its own issue).
+//! # omnee-wasm
+//!
+//! wasm-bindgen bindings of the `no_std` core [`omnee_core`] and the
+//! computations behind the browser demo in `omnee-wasm/web/`:
+//! the talk's "waterlevel" triangle, sample clouds of OMNEE and equiangular
+//! sampling, histograms of sampled deflections against the phase function,
+//! and running estimates of the point-to-point integral against its
+//! quadrature reference (Hanika, Weidlich, Droske, "Once-more scattered next
+//! event estimation for volume rendering", EGSR 2022).
+//!
+//! - [`demo`]: the computations, plain Rust, tested natively;
+//! - [`bindings`]: the JavaScript interface (errors become thrown `Error`s);
+//! - [`rng`]: PCG32, so a seed gives the same numbers natively and in wasm;
+//! - [`phase`]: phase functions by specification string.
+//!
+//! Sampling runs in f32 (a renderer's precision), references in f64.
 #![forbid(unsafe_code)]
+
+pub mod bindings;
+pub mod demo;
+pub mod phase;
+pub mod rng;
+
+pub use bindings::*;

@@ -1,0 +1,228 @@
+//! The JavaScript interface: thin wrappers over [`crate::demo`] that turn every
+//! invalid input into a thrown `Error` (never a trap).
+
+use crate::demo::{self, Method, Problem};
+use wasm_bindgen::prelude::*;
+
+fn js(e: omnee_core::Error) -> JsError {
+    JsError::new(&e.to_string())
+}
+
+/// The point-to-point integral in the demo plane and its running estimates by
+/// OMNEE (technique 0), equiangular sampling (1) and MIS of both (2).
+#[wasm_bindgen]
+pub struct Demo {
+    inner: Problem,
+}
+
+#[wasm_bindgen]
+impl Demo {
+    /// The problem for the phase function `phase` (a spec string such as
+    /// `"hg:0.9"`) between the unit point light `x0 = (x0x, x0y)` and the
+    /// point receiver `x2 = (x2x, x2y)` in an infinite medium with
+    /// coefficients `sigmaS`, `sigmaA`, restricted to θ < `thetaMax` ∈ (0, π].
+    /// Computes the quadrature reference. Throws on invalid input.
+    #[wasm_bindgen(constructor)]
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        phase: &str,
+        x0x: f64,
+        x0y: f64,
+        x2x: f64,
+        x2y: f64,
+        #[wasm_bindgen(js_name = sigmaS)] sigma_s: f64,
+        #[wasm_bindgen(js_name = sigmaA)] sigma_a: f64,
+        #[wasm_bindgen(js_name = thetaMax)] theta_max: f64,
+        seed: u32,
+    ) -> Result<Demo, JsError> {
+        Problem::new(
+            phase,
+            [x0x, x0y],
+            [x2x, x2y],
+            sigma_s,
+            sigma_a,
+            theta_max,
+            seed,
+        )
+        .map(|inner| Demo { inner })
+        .map_err(js)
+    }
+
+    /// The quadrature reference value of the integral.
+    #[wasm_bindgen(getter)]
+    pub fn reference(&self) -> f64 {
+        self.inner.reference()
+    }
+
+    /// Draws `n` (1 ..= 2²⁴) more samples with each technique and updates the
+    /// running estimates.
+    pub fn run(&mut self, n: u32) -> Result<(), JsError> {
+        self.inner.run(n).map_err(js)
+    }
+
+    /// The running estimate of `technique` (0 OMNEE, 1 equiangular, 2 MIS).
+    pub fn estimate(&self, technique: u32) -> Result<Estimate, JsError> {
+        let stats = self.inner.stats(Method::from_index(technique).map_err(js)?);
+        let reference = self.inner.reference();
+        Ok(Estimate {
+            count: stats.count() as f64,
+            mean: stats.mean(),
+            std_error: stats.std_error(),
+            relative_error: if reference > 0.0 {
+                (stats.mean() - reference).abs() / reference
+            } else {
+                f64::NAN
+            },
+        })
+    }
+
+    /// `n` (1 ..= 2²⁰) samples of `technique` drawn from generator `seed`,
+    /// rotated into the plane about the axis: `[x, y, estimate, …]`.
+    pub fn cloud(&self, technique: u32, n: u32, seed: u32) -> Result<Vec<f32>, JsError> {
+        self.inner
+            .cloud(Method::from_index(technique).map_err(js)?, n, seed)
+            .map_err(js)
+    }
+
+    /// Forgets the estimates and restarts the generators from the seed.
+    pub fn reset(&mut self) {
+        self.inner.reset();
+    }
+}
+
+/// A running Monte Carlo estimate of the integral.
+#[wasm_bindgen]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Estimate {
+    /// Number of samples so far.
+    #[wasm_bindgen(readonly)]
+    pub count: f64,
+    /// The mean of the one-sample estimates.
+    #[wasm_bindgen(readonly)]
+    pub mean: f64,
+    /// Its standard error.
+    #[wasm_bindgen(readonly, js_name = stdError)]
+    pub std_error: f64,
+    /// `|mean − reference| / reference` (NaN for a zero reference).
+    #[wasm_bindgen(readonly, js_name = relativeError)]
+    pub relative_error: f64,
+}
+
+/// The talk's "waterlevel" triangle `x0, x1, x2` (see [`waterlevel`]).
+#[wasm_bindgen]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Waterlevel {
+    /// x of the vertex `x1`.
+    #[wasm_bindgen(readonly)]
+    pub x1x: f64,
+    /// y of the vertex `x1`.
+    #[wasm_bindgen(readonly)]
+    pub x1y: f64,
+    /// The deflection θ = α + β at `x1`.
+    #[wasm_bindgen(readonly)]
+    pub theta: f64,
+    /// The angle α at `x0`.
+    #[wasm_bindgen(readonly)]
+    pub alpha: f64,
+    /// The angle β at `x2`.
+    #[wasm_bindgen(readonly)]
+    pub beta: f64,
+    /// `β/θ`, the talk's ξ.
+    #[wasm_bindgen(readonly)]
+    pub xi: f64,
+    /// The talk's fractional distance `t = sin β cos(θ − β) / sin θ`.
+    #[wasm_bindgen(readonly)]
+    pub t: f64,
+    /// `s = |x2 − x0|`.
+    #[wasm_bindgen(readonly)]
+    pub s: f64,
+    /// `d1 = |x1 − x0|`.
+    #[wasm_bindgen(readonly)]
+    pub d1: f64,
+    /// `d2 = |x2 − x1|`.
+    #[wasm_bindgen(readonly)]
+    pub d2: f64,
+    /// The circumradius `s / (2 sin θ)`.
+    #[wasm_bindgen(readonly)]
+    pub radius: f64,
+    /// x of the circumcircle's centre.
+    #[wasm_bindgen(readonly)]
+    pub cx: f64,
+    /// y of the circumcircle's centre.
+    #[wasm_bindgen(readonly)]
+    pub cy: f64,
+}
+
+/// The triangle with `x1` on the arc of constant `theta` ∈ (0, π) at
+/// `β/θ = xi` ∈ [0, 1], on the left of the axis from `x0` to `x2`.
+#[wasm_bindgen]
+pub fn waterlevel(
+    x0x: f64,
+    x0y: f64,
+    x2x: f64,
+    x2y: f64,
+    theta: f64,
+    xi: f64,
+) -> Result<Waterlevel, JsError> {
+    let w = demo::waterlevel([x0x, x0y], [x2x, x2y], theta, xi).map_err(js)?;
+    Ok(Waterlevel {
+        x1x: w.x1[0],
+        x1y: w.x1[1],
+        theta: w.theta,
+        alpha: w.alpha,
+        beta: w.beta,
+        xi: w.xi,
+        t: w.t,
+        s: w.s,
+        d1: w.d1,
+        d2: w.d2,
+        radius: w.radius,
+        cx: w.centre[0],
+        cy: w.centre[1],
+    })
+}
+
+/// The arc of constant `theta` through `x0` and `x2` on both sides of the
+/// axis: `segments + 1` points per side, `[x, y, …]`.
+#[wasm_bindgen]
+pub fn arc(
+    x0x: f64,
+    x0y: f64,
+    x2x: f64,
+    x2y: f64,
+    theta: f64,
+    segments: u32,
+) -> Result<Vec<f64>, JsError> {
+    demo::arc([x0x, x0y], [x2x, x2y], theta, segments).map_err(js)
+}
+
+/// A histogram of `n` sampled deflections over `bins` bins of
+/// `[0, thetaHi]`: `bins` sampled densities, then `bins` exact ones.
+#[wasm_bindgen]
+pub fn histogram(
+    phase: &str,
+    n: u32,
+    bins: u32,
+    #[wasm_bindgen(js_name = thetaHi)] theta_hi: f64,
+    seed: u32,
+) -> Result<Vec<f64>, JsError> {
+    demo::histogram(phase, n, bins, theta_hi, seed).map_err(js)
+}
+
+/// The deflection θ below which a fraction `u` of the scattering goes.
+#[wasm_bindgen]
+pub fn quantile(phase: &str, u: f64) -> Result<f64, JsError> {
+    demo::quantile(phase, u).map_err(js)
+}
+
+/// The mean cosine of the phase function `phase`.
+#[wasm_bindgen(js_name = meanCosine)]
+pub fn mean_cosine(phase: &str) -> Result<f64, JsError> {
+    demo::mean_cosine(phase).map_err(js)
+}
+
+/// The crate version, for the page footer.
+#[wasm_bindgen]
+pub fn version() -> String {
+    env!("CARGO_PKG_VERSION").into()
+}

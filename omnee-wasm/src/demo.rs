@@ -1,0 +1,526 @@
+//! The demo's computations in plain Rust (no JavaScript types), so that native
+//! tests and the browser run the very same code.
+//!
+//! The demo lives in a plane: `x0` and `x2` are 2-D points `[x, y]`, embedded
+//! in 3-D as `(x, y, 0)`. Sampled vertices `x1` are 3-D; for display they are
+//! rotated about the axis `x0 x2` into the plane (the half-plane on the side
+//! they came from), which keeps `d1`, `d2` and θ: an OMNEE sample of angle θ
+//! lands exactly on the drawn arc of that θ.
+
+use crate::phase::{DemoPhase, parse};
+use crate::rng::Pcg32;
+use omnee_core::Error;
+use omnee_core::circumcircle::{Angles, Axis, circumradius, fractional_distance, side_lengths};
+use omnee_core::medium::{Homogeneous, Region};
+use omnee_core::mis::{Heuristic, OneSample};
+use omnee_core::phase::{Deflection, PhaseFunction};
+use omnee_core::real::{Real, Vector};
+use omnee_core::reference::PointToPoint;
+use omnee_core::sampling::{Connection, Directions, Equiangular, Omnee, Technique};
+
+type Vec3 = <f32 as Real>::Vec3;
+type DVec3 = <f64 as Real>::Vec3;
+
+/// Most samples one call may draw (keeps a call under a second or so).
+pub const MAX_RUN: u32 = 1 << 24;
+/// Most points one sample cloud may hold.
+pub const MAX_CLOUD: u32 = 1 << 20;
+/// Most histogram bins.
+pub const MAX_BINS: u32 = 4096;
+
+/// The largest θmax of the quadrature reference, `π − 10⁻⁴`.
+///
+/// `PointToPoint::integral` with θmax = π takes seconds instead of
+/// milliseconds in an attenuating medium (the adaptive quadrature chases the
+/// boundary layer of width ∝ π − θ of the inner integrand at θ → π). The
+/// integrand's share of θ ∈ (π − δ, π) is at most
+/// `(σs/s) · max p · 2π² δ`, 2·10⁻³ σs max p / s for δ = 10⁻⁴ without attenuation and
+/// `∝ δ²/(σt s)` with it: below the Monte Carlo error bars the demo shows.
+pub const REFERENCE_THETA_MAX: f64 = core::f64::consts::PI - 1e-4;
+
+/// The three estimators the demo compares.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// OMNEE over the whole restriction θ < θmax.
+    Omnee = 0,
+    /// Equiangular sampling along uniformly distributed rays from `x2`.
+    Equiangular = 1,
+    /// One-sample MIS (balance heuristic, ½ : ½) of OMNEE restricted to
+    /// θ < min(θmax, π/2) and equiangular.
+    Mis = 2,
+}
+
+impl Method {
+    /// All methods, in index order.
+    pub const ALL: [Method; 3] = [Method::Omnee, Method::Equiangular, Method::Mis];
+
+    /// The method with index `i` (0, 1, 2).
+    pub fn from_index(i: u32) -> Result<Self, Error> {
+        Self::ALL.get(i as usize).copied().ok_or(Error::OutOfRange {
+            field: "technique",
+            value: f64::from(i),
+            allowed: "0 (OMNEE), 1 (equiangular), 2 (MIS)",
+        })
+    }
+}
+
+/// Mean and variance of a stream of estimates (Welford's update).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Running {
+    count: u64,
+    mean: f64,
+    m2: f64,
+}
+
+impl Running {
+    /// Adds one estimate.
+    #[inline]
+    pub fn push(&mut self, x: f64) {
+        self.count += 1;
+        let delta = x - self.mean;
+        self.mean += delta / self.count as f64;
+        self.m2 += delta * (x - self.mean);
+    }
+
+    /// Number of estimates.
+    pub fn count(&self) -> u64 {
+        self.count
+    }
+
+    /// Their mean, the running estimate of the integral (0 before any).
+    pub fn mean(&self) -> f64 {
+        self.mean
+    }
+
+    /// The standard error of the mean, `√(s²/n)` (0 for fewer than 2).
+    pub fn std_error(&self) -> f64 {
+        if self.count < 2 {
+            0.0
+        } else {
+            let n = self.count as f64;
+            (self.m2 / (n - 1.0) / n).sqrt()
+        }
+    }
+}
+
+fn check_count(field: &'static str, n: u32, max: u32, allowed: &'static str) -> Result<(), Error> {
+    if n == 0 || n > max {
+        Err(Error::OutOfRange {
+            field,
+            value: f64::from(n),
+            allowed,
+        })
+    } else {
+        Ok(())
+    }
+}
+
+fn plane_point(p: [f64; 2]) -> Vec3 {
+    Vec3::new(p[0] as f32, p[1] as f32, 0.0)
+}
+
+fn widen(v: Vec3) -> DVec3 {
+    let [x, y, z] = v.to_array();
+    DVec3::new(f64::from(x), f64::from(y), f64::from(z))
+}
+
+/// The point-to-point problem of `omnee_core::reference` in the demo plane,
+/// with running estimates of its integral by the three [`Method`]s.
+#[derive(Clone, Debug)]
+pub struct Problem {
+    phase: DemoPhase<f32>,
+    problem: PointToPoint<f32>,
+    forward: Connection<f32>,
+    reference: f64,
+    seed: u32,
+    rngs: [Pcg32; 3],
+    stats: [Running; 3],
+}
+
+impl Problem {
+    /// The problem for the phase function `spec` between the plane points
+    /// `x0` (unit point light) and `x2` (point receiver) in an infinite
+    /// medium (`sigma_s`, `sigma_a`), restricted to θ < `theta_max`; the
+    /// quadrature reference is computed here. `seed` seeds the estimators.
+    pub fn new(
+        spec: &str,
+        x0: [f64; 2],
+        x2: [f64; 2],
+        sigma_s: f64,
+        sigma_a: f64,
+        theta_max: f64,
+        seed: u32,
+    ) -> Result<Self, Error> {
+        let phase = parse::<f32>(spec)?;
+        let phase64 = parse::<f64>(spec)?;
+        let (a, b) = (plane_point(x0), plane_point(x2));
+        let connection = Connection::<f32>::new(a, b, theta_max as f32)?;
+        let forward = Connection::<f32>::new(a, b, (theta_max as f32).min(f32::FRAC_PI_2))?;
+        let medium = Homogeneous::<f32>::new(sigma_s as f32, sigma_a as f32)?;
+        let problem = PointToPoint::new(connection, medium, None)?;
+        // The reference describes exactly the (f32-rounded) problem sampled.
+        let problem64 = PointToPoint::new(
+            Connection::<f64>::new(
+                widen(a),
+                widen(b),
+                f64::from(connection.theta_max).min(REFERENCE_THETA_MAX),
+            )?,
+            Homogeneous::<f64>::new(f64::from(medium.sigma_s()), f64::from(medium.sigma_a()))?,
+            None,
+        )?;
+        let reference = problem64.integral(&phase64);
+        Ok(Self {
+            phase,
+            problem,
+            forward,
+            reference,
+            seed,
+            rngs: Self::fresh_rngs(seed),
+            stats: [Running::default(); 3],
+        })
+    }
+
+    fn fresh_rngs(seed: u32) -> [Pcg32; 3] {
+        Method::ALL.map(|m| Pcg32::new(u64::from(seed), 1 + m as u64))
+    }
+
+    /// The quadrature reference value of the integral (f64).
+    pub fn reference(&self) -> f64 {
+        self.reference
+    }
+
+    /// The running statistics of `method`.
+    pub fn stats(&self, method: Method) -> Running {
+        self.stats[method as usize]
+    }
+
+    /// Forgets all estimates and restarts the generators from the seed.
+    pub fn reset(&mut self) {
+        self.rngs = Self::fresh_rngs(self.seed);
+        self.stats = [Running::default(); 3];
+    }
+
+    /// Calls `f` with the technique of `method` (monomorphised per method, so
+    /// the sampling loops inline).
+    fn with<R>(&self, method: Method, f: impl WithTechnique<R>) -> Result<R, Error> {
+        let connection = self.problem.connection;
+        let omnee = Omnee::new(connection, &self.phase);
+        let equiangular = Equiangular::new(
+            connection,
+            &self.phase,
+            Directions::Sphere,
+            Region::Everywhere,
+        );
+        Ok(match method {
+            Method::Omnee => f.call(&omnee),
+            Method::Equiangular => f.call(&equiangular),
+            Method::Mis => {
+                let forward = Omnee::new(self.forward, &self.phase);
+                let mis = OneSample::new(
+                    [&forward as &dyn Technique<f32>, &equiangular],
+                    [0.5, 0.5],
+                    Heuristic::Balance,
+                )?;
+                f.call(&mis)
+            }
+        })
+    }
+
+    /// Draws `n` more samples (1 ..= [`MAX_RUN`]) with each of the three
+    /// methods and adds their estimates `f_c · k/pdf` (0 where a technique
+    /// returns no sample) to the running statistics.
+    pub fn run(&mut self, n: u32) -> Result<(), Error> {
+        check_count("n", n, MAX_RUN, "[1, 16777216]")?;
+        for method in Method::ALL {
+            let i = method as usize;
+            let (rng, stats) = (self.rngs[i], self.stats[i]);
+            let (rng, stats) = self.with(
+                method,
+                Accumulate {
+                    problem: &self.problem,
+                    rng,
+                    stats,
+                    n,
+                },
+            )?;
+            self.rngs[i] = rng;
+            self.stats[i] = stats;
+        }
+        Ok(())
+    }
+
+    /// `n` samples (1 ..= [`MAX_CLOUD`]) of `method` from generator `seed`,
+    /// rotated into the plane: `[x, y, estimate, …]`, one triple per sample
+    /// that the technique returned (fewer than `n` triples when some fell
+    /// outside θmax). The estimate is `f_c · k/pdf`, whose mean is the integral.
+    pub fn cloud(&self, method: Method, n: u32, seed: u32) -> Result<Vec<f32>, Error> {
+        check_count("n", n, MAX_CLOUD, "[1, 1048576]")?;
+        let rng = Pcg32::new(u64::from(seed), 16 + method as u64);
+        self.with(
+            method,
+            Cloud {
+                problem: &self.problem,
+                rng,
+                n,
+            },
+        )
+    }
+}
+
+/// A computation generic over the technique (a closure cannot be generic).
+trait WithTechnique<R> {
+    fn call<T: Technique<f32>>(self, technique: &T) -> R;
+}
+
+struct Accumulate<'a> {
+    problem: &'a PointToPoint<f32>,
+    rng: Pcg32,
+    stats: Running,
+    n: u32,
+}
+
+impl WithTechnique<(Pcg32, Running)> for Accumulate<'_> {
+    fn call<T: Technique<f32>>(mut self, technique: &T) -> (Pcg32, Running) {
+        for _ in 0..self.n {
+            let estimate = technique
+                .sample(self.rng.uniform3())
+                .map_or(0.0, |s| f64::from(self.problem.estimate(&s)));
+            self.stats.push(estimate);
+        }
+        (self.rng, self.stats)
+    }
+}
+
+struct Cloud<'a> {
+    problem: &'a PointToPoint<f32>,
+    rng: Pcg32,
+    n: u32,
+}
+
+impl WithTechnique<Vec<f32>> for Cloud<'_> {
+    fn call<T: Technique<f32>>(mut self, technique: &T) -> Vec<f32> {
+        let axis = &self.problem.connection.axis;
+        let e = axis.e;
+        // The in-plane normal of the axis (the plane is z = 0).
+        let normal = Vec3::new(-e.y(), e.x(), 0.0);
+        let mut out = Vec::with_capacity(3 * self.n as usize);
+        for _ in 0..self.n {
+            let Some(s) = technique.sample(self.rng.uniform3()) else {
+                continue;
+            };
+            let p = s.x1 - axis.x0;
+            let along = p.dot(e);
+            let radial = p - e * along;
+            let h = radial.length().copysign(radial.dot(normal));
+            let q = axis.x0 + e * along + normal * h;
+            out.extend_from_slice(&[q.x(), q.y(), self.problem.estimate(&s)]);
+        }
+        out
+    }
+}
+
+/// A histogram of `n` deflections θ sampled (in f32, as a renderer does) from
+/// the phase function `spec`, over `bins` equal bins of `[0, theta_hi]`,
+/// against the exact bin averages of the density of θ, `2π p(θ) sin θ`
+/// (from the f64 CDF). Returns `2·bins` numbers: the sampled densities, then
+/// the exact ones (both per radian; samples above `theta_hi` count in neither).
+pub fn histogram(
+    spec: &str,
+    n: u32,
+    bins: u32,
+    theta_hi: f64,
+    seed: u32,
+) -> Result<Vec<f64>, Error> {
+    check_count("n", n, MAX_RUN, "[1, 16777216]")?;
+    check_count("bins", bins, MAX_BINS, "[1, 4096]")?;
+    if !(theta_hi > 0.0 && theta_hi <= core::f64::consts::PI) {
+        return Err(Error::OutOfRange {
+            field: "theta_hi",
+            value: theta_hi,
+            allowed: "(0, pi]",
+        });
+    }
+    let phase = parse::<f32>(spec)?;
+    let phase64 = parse::<f64>(spec)?;
+    let bins = bins as usize;
+    let width = theta_hi / bins as f64;
+    let mut out = vec![0.0; 2 * bins];
+    let mut rng = Pcg32::new(u64::from(seed), 32);
+    for _ in 0..n {
+        let theta = f64::from(phase.sample(rng.uniform()).theta);
+        let k = (theta / width) as usize;
+        if let Some(c) = out.get_mut(k).filter(|_| k < bins) {
+            *c += 1.0;
+        }
+    }
+    let scale = 1.0 / (f64::from(n) * width);
+    let (sampled, exact) = out.split_at_mut(bins);
+    for c in sampled.iter_mut() {
+        *c *= scale;
+    }
+    let cdf = |theta: f64| phase64.cdf(Deflection::from_theta(theta));
+    let mut lower = cdf(0.0);
+    for (k, c) in exact.iter_mut().enumerate() {
+        let upper = cdf((k + 1) as f64 * width);
+        *c = (upper - lower) / width;
+        lower = upper;
+    }
+    Ok(out)
+}
+
+/// The deflection θ with `P(Θ ≤ θ) = u` (`u ∈ [0, 1)`), by the f64 sampler
+/// of `spec`: for choosing a histogram range that shows the forward peak.
+pub fn quantile(spec: &str, u: f64) -> Result<f64, Error> {
+    if !(0.0..1.0).contains(&u) {
+        return Err(Error::OutOfRange {
+            field: "u",
+            value: u,
+            allowed: "[0, 1)",
+        });
+    }
+    Ok(parse::<f64>(spec)?.sample(u).theta)
+}
+
+/// The mean cosine ⟨cos θ⟩ of the phase function `spec`.
+pub fn mean_cosine(spec: &str) -> Result<f64, Error> {
+    Ok(parse::<f64>(spec)?.mean_cosine())
+}
+
+/// The talk's "waterlevel" triangle `x0, x1, x2` in the plane, with `x1` on
+/// the arc of constant θ on the left of the axis `x0 → x2`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Waterlevel {
+    /// The vertex `x1`.
+    pub x1: [f64; 2],
+    /// The deflection θ = α + β at `x1`.
+    pub theta: f64,
+    /// The angle α at `x0`.
+    pub alpha: f64,
+    /// The angle β at `x2`.
+    pub beta: f64,
+    /// `β/θ` (the sampler's uniform number u2, the talk's ξ).
+    pub xi: f64,
+    /// The talk's fractional distance `t = sin β cos(θ − β)/sin θ` of the
+    /// foot of `x1` along the axis.
+    pub t: f64,
+    /// `s = |x2 − x0|`.
+    pub s: f64,
+    /// `d1 = |x1 − x0|`.
+    pub d1: f64,
+    /// `d2 = |x2 − x1|`.
+    pub d2: f64,
+    /// The circumradius `R = s / (2 sin θ)`.
+    pub radius: f64,
+    /// The centre of the circumcircle through `x0, x1, x2`.
+    pub centre: [f64; 2],
+}
+
+/// The axis between two plane points with its unit direction `e` and the
+/// in-plane normal `n` (`e` turned by +90°).
+type PlaneAxis = (Axis<f64>, [f64; 2], [f64; 2]);
+
+fn axis2(x0: [f64; 2], x2: [f64; 2]) -> Result<PlaneAxis, Error> {
+    let axis = Axis::<f64>::new(DVec3::new(x0[0], x0[1], 0.0), DVec3::new(x2[0], x2[1], 0.0))?;
+    let e = [axis.e.x(), axis.e.y()];
+    Ok((axis, e, [-e[1], e[0]]))
+}
+
+fn check_theta(theta: f64) -> Result<(), Error> {
+    if theta > 0.0 && theta < core::f64::consts::PI {
+        Ok(())
+    } else {
+        Err(Error::OutOfRange {
+            field: "theta",
+            value: theta,
+            allowed: "(0, pi)",
+        })
+    }
+}
+
+/// The point of the arc of constant θ at `β/θ = xi`, on the side `side` (±1)
+/// of the axis, with its side lengths.
+fn arc_point(
+    x0: [f64; 2],
+    e: [f64; 2],
+    n: [f64; 2],
+    s: f64,
+    angles: Angles<f64>,
+    side: f64,
+) -> Option<([f64; 2], f64, f64)> {
+    let (d1, d2) = side_lengths(s, angles)?;
+    let (sin_a, cos_a) = angles.alpha().sin_cos();
+    let (a, b) = (d1 * cos_a, side * d1 * sin_a);
+    Some((
+        [x0[0] + a * e[0] + b * n[0], x0[1] + a * e[1] + b * n[1]],
+        d1,
+        d2,
+    ))
+}
+
+/// The triangle for the angle `theta ∈ (0, π)` and `xi = β/θ ∈ [0, 1]`
+/// between the plane points `x0` and `x2`.
+pub fn waterlevel(x0: [f64; 2], x2: [f64; 2], theta: f64, xi: f64) -> Result<Waterlevel, Error> {
+    let (axis, e, n) = axis2(x0, x2)?;
+    check_theta(theta)?;
+    if !(0.0..=1.0).contains(&xi) {
+        return Err(Error::OutOfRange {
+            field: "xi",
+            value: xi,
+            allowed: "[0, 1]",
+        });
+    }
+    let angles = Angles {
+        theta,
+        beta_ratio: xi,
+        phi: 0.0,
+    };
+    let bad = Error::Degenerate {
+        field: "theta",
+        reason: "the triangle does not close",
+    };
+    let (x1, d1, d2) = arc_point(x0, e, n, axis.s, angles, 1.0).ok_or(bad)?;
+    let t = fractional_distance(angles).ok_or(bad)?;
+    let radius = circumradius(axis.s, theta);
+    // The centre lies on the bisector of x0 x2, R cos θ away from the chord,
+    // on the far side from x1 when θ < π/2 (x1 on the minor arc).
+    let h = radius * theta.cos();
+    let mid = [(x0[0] + x2[0]) * 0.5, (x0[1] + x2[1]) * 0.5];
+    Ok(Waterlevel {
+        x1,
+        theta,
+        alpha: angles.alpha(),
+        beta: angles.beta(),
+        xi,
+        t,
+        s: axis.s,
+        d1,
+        d2,
+        radius,
+        centre: [mid[0] - h * n[0], mid[1] - h * n[1]],
+    })
+}
+
+/// The locus of constant θ in the plane: `segments + 1` points from `x0` to
+/// `x2` on the left of the axis, then the same on the right, flattened as
+/// `[x, y, …]` (`4 (segments + 1)` numbers; `segments` in 1 ..= 4096).
+pub fn arc(x0: [f64; 2], x2: [f64; 2], theta: f64, segments: u32) -> Result<Vec<f64>, Error> {
+    let (axis, e, n) = axis2(x0, x2)?;
+    check_theta(theta)?;
+    check_count("segments", segments, MAX_BINS, "[1, 4096]")?;
+    let mut out = Vec::with_capacity(4 * (segments as usize + 1));
+    for side in [1.0, -1.0] {
+        for k in 0..=segments {
+            let angles = Angles {
+                theta,
+                beta_ratio: f64::from(k) / f64::from(segments),
+                phi: 0.0,
+            };
+            let (p, _, _) = arc_point(x0, e, n, axis.s, angles, side).ok_or(Error::Degenerate {
+                field: "theta",
+                reason: "the triangle does not close",
+            })?;
+            out.extend_from_slice(&p);
+        }
+    }
+    Ok(out)
+}

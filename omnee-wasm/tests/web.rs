@@ -1,0 +1,104 @@
+//! The bindings in headless Chromium (wasm-bindgen-test): the same numbers as
+//! the native build for the fixed seeds of `common`, to 1e-6 relative, and
+//! bad input rejected with an error instead of a trap.
+#![cfg(target_arch = "wasm32")]
+
+mod common;
+
+use common::*;
+use omnee_wasm::{Demo, arc, histogram, mean_cosine, quantile, waterlevel};
+use wasm_bindgen_test::*;
+
+wasm_bindgen_test_configure!(run_in_browser);
+
+fn demo(spec: &str, x0: [f64; 2], x2: [f64; 2], m: (f64, f64, f64)) -> Demo {
+    let d = Demo::new(spec, x0[0], x0[1], x2[0], x2[1], m.0, m.1, m.2, SEED);
+    d.unwrap_or_else(|_| panic!("Demo::new({spec}) failed"))
+}
+
+fn estimates(d: &Demo) -> Vec<f64> {
+    (0..3)
+        .flat_map(|t| {
+            let e = d.estimate(t).expect("estimate");
+            [e.count, e.mean, e.std_error]
+        })
+        .collect()
+}
+
+#[wasm_bindgen_test]
+fn browser_numbers_match_the_native_fixture() {
+    let mut a = demo(A_SPEC, A_X0, A_X2, A_MEDIUM);
+    a.run(RUN).expect("run a");
+    let mut b = demo(B_SPEC, B_X0, B_X2, B_MEDIUM);
+    b.run(RUN).expect("run b");
+    let cloud = |t| -> Vec<f64> {
+        let c = a.cloud(t, CLOUD, 9).expect("cloud");
+        c.into_iter().map(f64::from).collect()
+    };
+    let (spec, n, bins, hi) = HIST;
+    let (x0, x2, theta, xi) = WATER;
+    let w = waterlevel(x0[0], x0[1], x2[0], x2[1], theta, xi).expect("waterlevel");
+    let got = [
+        vec![a.reference()],
+        estimates(&a),
+        vec![b.reference()],
+        estimates(&b),
+        cloud(0),
+        cloud(1),
+        cloud(2),
+        histogram(spec, n, bins, hi, 11).expect("histogram"),
+        vec![
+            w.x1x, w.x1y, w.theta, w.alpha, w.beta, w.xi, w.t, w.s, w.d1, w.d2, w.radius, w.cx,
+            w.cy,
+        ],
+        vec![quantile(B_SPEC, 0.9).expect("quantile")],
+    ];
+    for ((name, g), want) in NAMES.iter().zip(&got).zip(fixture::ALL) {
+        assert_close(name, g, want);
+    }
+    // The fixture is not empty (a blessed fixture, not the placeholder).
+    assert!(fixture::ALL.iter().all(|f| !f.is_empty()));
+}
+
+#[wasm_bindgen_test]
+fn estimates_report_the_relative_error() {
+    let mut d = demo("hg:0.9", [-0.5, 0.0], [0.5, 0.0], (0.2, 0.05, PI));
+    d.run(50_000).expect("run");
+    let r = d.reference();
+    for t in 0..3 {
+        let e = d.estimate(t).expect("estimate");
+        assert_eq!(e.count, 50_000.0);
+        assert!((e.relative_error - (e.mean - r).abs() / r).abs() < 1e-15);
+    }
+    d.reset();
+    assert_eq!(d.estimate(2).expect("estimate").count, 0.0);
+    assert!((mean_cosine("hg:0.9").expect("g") - 0.9).abs() < 1e-15);
+    let pts = arc(0.0, 0.0, 1.0, 0.0, 1.0, 16).expect("arc");
+    assert_eq!(pts.len(), 4 * 17);
+}
+
+#[wasm_bindgen_test]
+fn bad_input_is_an_error_not_a_trap() {
+    let bad = |spec: &str, x2: [f64; 2], g: (f64, f64, f64)| {
+        Demo::new(spec, 0.0, 0.0, x2[0], x2[1], g.0, g.1, g.2, 1).is_err()
+    };
+    assert!(bad("hg:0.5", [0.0, 0.0], (0.1, 0.1, PI)), "x0 == x2");
+    assert!(bad("hg:0.5", [f64::NAN, 0.0], (0.1, 0.1, PI)), "NaN");
+    assert!(bad("hg:1.5", [1.0, 0.0], (0.1, 0.1, PI)), "g out of range");
+    assert!(bad("hg:-1", [1.0, 0.0], (0.1, 0.1, PI)), "g = -1");
+    assert!(bad("nope", [1.0, 0.0], (0.1, 0.1, PI)), "unknown spec");
+    assert!(bad("iso", [1.0, 0.0], (f64::NAN, 0.1, PI)), "NaN sigma_s");
+    assert!(bad("iso", [1.0, 0.0], (0.1, 0.1, 4.0)), "theta_max > pi");
+    let mut d = demo("iso", [0.0, 0.0], [1.0, 0.0], (0.1, 0.1, PI));
+    assert!(d.run(0).is_err() && d.run(u32::MAX).is_err());
+    assert!(d.estimate(3).is_err());
+    assert!(d.cloud(7, 10, 1).is_err() && d.cloud(0, u32::MAX, 1).is_err());
+    assert!(histogram("hg:2", 10, 8, 1.0, 1).is_err());
+    assert!(histogram("iso", 10, 8, f64::NAN, 1).is_err());
+    assert!(quantile("iso", f64::NAN).is_err());
+    assert!(waterlevel(0.0, 0.0, 0.0, 0.0, 1.0, 0.5).is_err());
+    assert!(waterlevel(0.0, 0.0, 1.0, 0.0, f64::NAN, 0.5).is_err());
+    assert!(arc(f64::INFINITY, 0.0, 1.0, 0.0, 1.0, 8).is_err());
+    // The demo object is still usable after the errors.
+    assert!(d.run(10).is_ok());
+}
