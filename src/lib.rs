@@ -6,3 +6,8 @@
 #![forbid(unsafe_code)]
 
 pub use omnee_core::*;
+
+/// The README's code blocks, compiled and run as doctests so they stay true.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
