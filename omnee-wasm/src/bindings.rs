@@ -4,8 +4,34 @@
 use crate::demo::{self, Method, Problem};
 use wasm_bindgen::prelude::*;
 
+#[wasm_bindgen]
+extern "C" {
+    /// JavaScript's `String(x)`: the page formats numbers, which keeps Rust's
+    /// float formatting (some 20 KiB of wasm) out of the module.
+    #[wasm_bindgen(js_name = String)]
+    fn number_to_string(x: f64) -> String;
+}
+
+/// The core's error as a JavaScript `Error` with the message of its `Display`
+/// (`g = 1.5 is out of range; allowed: (-1, 1)`), the number formatted by
+/// JavaScript.
 fn js(e: omnee_core::Error) -> JsError {
-    JsError::new(&e.to_string())
+    use omnee_core::Error::*;
+    let message = match e {
+        OutOfRange {
+            field,
+            value,
+            allowed,
+        } => {
+            let value = number_to_string(value);
+            [field, " = ", &value, " is out of range; allowed: ", allowed].concat()
+        }
+        NotFinite { field } => [field, " has a non-finite component"].concat(),
+        Degenerate { field, reason } => [field, ": ", reason].concat(),
+        Table { field, reason } => ["table ", field, ": ", reason].concat(),
+        Syntax { field, reason } => ["syntax error in ", field, ": ", reason].concat(),
+    };
+    JsError::new(&message)
 }
 
 /// The point-to-point integral in the demo plane and its running estimates by

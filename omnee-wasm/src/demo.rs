@@ -98,7 +98,7 @@ impl Running {
             0.0
         } else {
             let n = self.count as f64;
-            (self.m2 / (n - 1.0) / n).sqrt()
+            Real::sqrt(self.m2 / (n - 1.0) / n)
         }
     }
 }
@@ -448,7 +448,7 @@ fn arc_point(
     side: f64,
 ) -> Option<([f64; 2], f64, f64)> {
     let (d1, d2) = side_lengths(s, angles)?;
-    let (sin_a, cos_a) = angles.alpha().sin_cos();
+    let (sin_a, cos_a) = Real::sin_cos(angles.alpha());
     let (a, b) = (d1 * cos_a, side * d1 * sin_a);
     Some((
         [x0[0] + a * e[0] + b * n[0], x0[1] + a * e[1] + b * n[1]],
@@ -483,7 +483,7 @@ pub fn waterlevel(x0: [f64; 2], x2: [f64; 2], theta: f64, xi: f64) -> Result<Wat
     let radius = circumradius(axis.s, theta);
     // The centre lies on the bisector of x0 x2, R cos θ away from the chord,
     // on the far side from x1 when θ < π/2 (x1 on the minor arc).
-    let h = radius * theta.cos();
+    let h = radius * Real::cos(theta);
     let mid = [(x0[0] + x2[0]) * 0.5, (x0[1] + x2[1]) * 0.5];
     Ok(Waterlevel {
         x1,

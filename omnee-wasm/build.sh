@@ -1,0 +1,106 @@
+#!/usr/bin/env bash
+# Shared by ci.sh and serve.sh (source it): installs what the wasm build needs
+# and builds the demo into omnee-wasm/web/pkg. Idempotent.
+set -euo pipefail
+
+WASM_DIR="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+ROOT="$(cd "$WASM_DIR/.." && pwd)"
+PKG="$WASM_DIR/web/pkg"
+E2E="$WASM_DIR/e2e"
+MAX_WASM_BYTES=65536
+
+log() { printf '== omnee-wasm: %s\n' "$*"; }
+
+# The wasm-bindgen crate version pinned by Cargo.lock (the CLI must match it).
+wasm_bindgen_version() {
+    awk '/^name = "wasm-bindgen"$/ { getline; gsub(/version = |"/, ""); print; exit }' "$ROOT/Cargo.lock"
+}
+
+ensure_rust_target() {
+    if ! rustup target list --installed | grep -qx wasm32-unknown-unknown; then
+        log "rustup target add wasm32-unknown-unknown"
+        rustup target add wasm32-unknown-unknown
+    fi
+}
+
+# wasm-bindgen-cli at exactly the Cargo.lock version (TOOLCHAIN.md §2.2/2.3):
+# `cargo install --locked` first; if the registry lacks a locked dependency
+# (webpki-roots 1.0.11 here), build the same release from its own source with
+# that one dependency stepped back to the newest version the registry has;
+# as a last resort resolve the dependencies afresh.
+ensure_wasm_bindgen_cli() {
+    local want have
+    want="$(wasm_bindgen_version)"
+    [ -n "$want" ] || { echo "no wasm-bindgen in Cargo.lock" >&2; return 1; }
+    have="$(wasm-bindgen --version 2>/dev/null | awk '{print $2}' || true)"
+    if [ "$have" = "$want" ] && command -v wasm-bindgen-test-runner >/dev/null; then
+        log "wasm-bindgen-cli $want already installed"
+        return
+    fi
+    log "installing wasm-bindgen-cli $want (a few minutes)"
+    if cargo install wasm-bindgen-cli --version "$want" --locked; then
+        return
+    fi
+    local crate scratch
+    crate="$(ls "${CARGO_HOME:-$HOME/.cargo}"/registry/cache/*/wasm-bindgen-cli-"$want".crate 2>/dev/null | head -n 1 || true)"
+    if [ -n "$crate" ]; then
+        scratch="$(mktemp -d)"
+        tar xzf "$crate" -C "$scratch"
+        if (cd "$scratch/wasm-bindgen-cli-$want" \
+            && cargo update -p webpki-roots --precise 1.0.10 \
+            && CARGO_TARGET_DIR="$scratch/target" cargo install --path . --locked); then
+            rm -rf "$scratch"
+            return
+        fi
+        rm -rf "$scratch"
+    fi
+    log "falling back to an unlocked install of wasm-bindgen-cli =$want"
+    cargo install wasm-bindgen-cli --version "=$want"
+}
+
+# npm packages (binaryen's wasm-opt, playwright-core) from the committed lockfile.
+ensure_npm() {
+    if [ -x "$E2E/node_modules/.bin/wasm-opt" ] && [ -d "$E2E/node_modules/playwright-core" ] \
+        && [ "$E2E/node_modules/.package-lock.json" -nt "$E2E/package-lock.json" ]; then
+        log "npm packages up to date"
+        return
+    fi
+    log "npm ci"
+    (cd "$E2E" && npm ci --no-audit --no-fund)
+}
+
+ensure_chromium() {
+    if command -v chromium >/dev/null && command -v chromedriver >/dev/null; then
+        return
+    fi
+    log "apt-get install chromium chromium-driver"
+    apt-get update
+    DEBIAN_FRONTEND=noninteractive apt-get install -y chromium chromium-driver
+}
+
+# The cargo target directory, honouring CARGO_TARGET_DIR and configuration.
+target_dir() {
+    (cd "$ROOT" && cargo metadata --format-version 1 --no-deps) \
+        | node -e 'let s="";process.stdin.on("data",d=>s+=d).on("end",()=>console.log(JSON.parse(s).target_directory))'
+}
+
+# Release wasm -> wasm-bindgen (--target web) -> wasm-opt -Oz, with the size check.
+build_wasm() {
+    log "cargo build --release --target wasm32-unknown-unknown"
+    (cd "$ROOT" && cargo build -p omnee-wasm --release --target wasm32-unknown-unknown)
+    local raw
+    raw="$(target_dir)/wasm32-unknown-unknown/release/omnee_wasm.wasm"
+    rm -rf "$PKG"
+    wasm-bindgen --target web --out-dir "$PKG" "$raw"
+    local bg="$PKG/omnee_wasm_bg.wasm"
+    local before
+    before=$(stat -c %s "$bg")
+    "$E2E/node_modules/.bin/wasm-opt" -Oz "$bg" -o "$bg"
+    WASM_BYTES=$(stat -c %s "$bg")
+    WASM_GZIP_BYTES=$(gzip -9 -c "$bg" | wc -c)
+    log "wasm size: raw $(stat -c %s "$raw") B (with debug info), after wasm-bindgen $before B, after wasm-opt -Oz $WASM_BYTES B ($WASM_GZIP_BYTES B gzip), limit $MAX_WASM_BYTES B"
+    if [ "$WASM_BYTES" -gt "$MAX_WASM_BYTES" ]; then
+        echo "omnee-wasm: optimised .wasm is $WASM_BYTES B > $MAX_WASM_BYTES B" >&2
+        return 1
+    fi
+}

@@ -1,0 +1,131 @@
+// End-to-end test of the omnee-wasm demo page: serves omnee-wasm/web on 127.0.0.1,
+// drives /usr/bin/chromium with playwright-core, moves the θ slider, drags x2, reads the
+// numbers the page shows and checks them, measures the sampling throughput and saves a
+// screenshot to e2e/out/demo.png. Exits non-zero on the first failed check.
+import { spawn } from 'node:child_process';
+import { mkdirSync } from 'node:fs';
+import { createServer } from 'node:net';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const web = join(here, '..', 'web');
+const out = join(here, 'out');
+const MIN_RATE = 1e6; // samples per second (issue 5)
+
+let passed = 0;
+const check = (ok, what) => {
+  if (!ok) throw new Error(`check failed: ${what}`);
+  passed += 1;
+  console.log(`  ok: ${what}`);
+};
+
+const freePort = () => new Promise((resolve, reject) => {
+  const s = createServer();
+  s.once('error', reject);
+  s.listen(0, '127.0.0.1', () => { const { port } = s.address(); s.close(() => resolve(port)); });
+});
+
+async function waitForServer(url) {
+  for (let i = 0; i < 100; i++) {
+    try { if ((await fetch(url)).ok) return; } catch { /* not up yet */ }
+    await new Promise((r) => setTimeout(r, 100));
+  }
+  throw new Error(`server at ${url} did not come up`);
+}
+
+const port = await freePort();
+const server = spawn('python3', ['-m', 'http.server', '--bind', '127.0.0.1', '--directory', web, String(port)], { stdio: 'ignore' });
+const url = `http://127.0.0.1:${port}/`;
+let browser;
+try {
+  await waitForServer(url);
+  browser = await chromium.launch({
+    executablePath: '/usr/bin/chromium',
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+      '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+  });
+  const page = await browser.newPage({ viewport: { width: 1380, height: 1250 } });
+  const problems = [];
+  page.on('console', (m) => { if (m.type() === 'error') problems.push(m.text()); });
+  page.on('pageerror', (e) => problems.push(String(e)));
+  await page.goto(url);
+  await page.waitForFunction(() => window.omnee?.ready === true, null, { timeout: 20000 });
+  const num = async (id) => Number(await page.locator(`#${id}`).textContent());
+
+  // The waterlevel: t is the talk's formula of θ and ξ.
+  const talk = (theta, xi) => Math.cos(theta - xi * theta) * Math.sin(xi * theta) / Math.sin(theta);
+  const tBefore = await num('t-val');
+  check(Math.abs(tBefore - talk(0.9, 0.35)) < 1e-5, `t = ${tBefore} matches sin β cos(θ−β)/sin θ at θ = 0.9, ξ = 0.35`);
+  await page.locator('#theta').fill('1.3');
+  await page.locator('#xi').fill('0.6');
+  const [theta, xi, t] = [await num('theta-val'), await num('xi-val'), await num('t-val')];
+  check(Math.abs(theta - 1.3) < 1e-9 && Math.abs(xi - 0.6) < 1e-9, `the sliders moved θ to ${theta} and ξ to ${xi}`);
+  check(Math.abs(t - talk(1.3, 0.6)) < 1e-5, `t = ${t} matches the talk's formula after moving the slider`);
+  const [alpha, beta] = [await num('alpha'), await num('beta')];
+  check(Math.abs(alpha + beta - theta) < 1e-5 && Math.abs(beta - xi * theta) < 1e-5, `α + β = θ and β = ξθ (α = ${alpha}, β = ${beta})`);
+
+  // Drag x2 from (0.5, 0) to (0.8, 0.3) in world units.
+  const box = await page.locator('#view').boundingBox();
+  const [fx, fy] = await page.evaluate(() => window.omnee.toPx(window.omnee.state.x2));
+  const [tx, ty] = await page.evaluate(() => window.omnee.toPx([0.8, 0.3]));
+  await page.mouse.move(box.x + fx, box.y + fy);
+  await page.mouse.down();
+  for (let i = 1; i <= 10; i++) await page.mouse.move(box.x + fx + ((tx - fx) * i) / 10, box.y + fy + ((ty - fy) * i) / 10);
+  await page.mouse.up();
+  const x2 = await page.evaluate(() => window.omnee.state.x2);
+  check(Math.hypot(x2[0] - 0.8, x2[1] - 0.3) < 0.01, `x2 dragged to (${x2[0].toFixed(3)}, ${x2[1].toFixed(3)})`);
+  const s = await num('s-val');
+  check(Math.abs(s - Math.hypot(x2[0] + 0.5, x2[1])) < 1e-4, `the page's s = ${s} is |x2 − x0| after the drag`);
+  check(Math.abs((await num('t-val')) - talk(1.3, 0.6)) < 1e-5, 't does not depend on where x0 and x2 are');
+
+  // Bad input: a thrown error shown on the page, and the page keeps working.
+  await page.locator('#spec').fill('hg:1.5');
+  await page.locator('#spec').press('Enter');
+  const err = await page.locator('#error').textContent();
+  check(err.includes('g = 1.5') && err.includes('(-1, 1)'), `g out of range is reported: "${err}"`);
+  await page.locator('#spec').fill('hg:0.9');
+  await page.locator('#spec').press('Enter');
+  check((await page.locator('#error').textContent()) === '', 'a valid spec clears the error');
+
+  // Live convergence against the quadrature reference (θmax = π, σs = 0.2, σa = 0.05).
+  await page.waitForFunction(() => window.omnee.state.demo.estimate(0).count >= 2e6, null, { timeout: 60000 });
+  const est = await page.evaluate(() => {
+    const d = window.omnee.state.demo;
+    return { reference: d.reference, e: [0, 1, 2].map((t) => { const e = d.estimate(t); return { n: e.count, mean: e.mean, se: e.stdError, rel: e.relativeError }; }) };
+  });
+  const shown = await num('reference');
+  check(Math.abs(shown - est.reference) <= 1e-6 * est.reference, `the page shows the reference ${shown}`);
+  for (const [t, name] of [[0, 'OMNEE'], [2, 'MIS']]) {
+    const { n, mean, se, rel } = est.e[t];
+    // OMNEE and MIS estimates are bounded here; 5 standard errors fail with probability < 1e-6.
+    check(Math.abs(mean - est.reference) < 5 * se && rel < 0.01,
+      `${name}: ${mean.toPrecision(6)} ± ${se.toExponential(2)} after ${n} samples vs reference ${est.reference.toPrecision(7)} (rel. error ${rel.toExponential(2)})`);
+  }
+  check(Number.isFinite(est.e[1].mean) && est.e[1].n === est.e[0].n, `equiangular ran as many samples (${est.e[1].n}), estimate ${est.e[1].mean.toPrecision(4)}`);
+  check(est.e[0].se < est.e[1].se, `OMNEE's standard error ${est.e[0].se.toExponential(2)} < equiangular's ${est.e[1].se.toExponential(2)} for HG g = 0.9`);
+
+  // Throughput: one wasm call of 10^6 samples per technique, best of three.
+  await page.locator('#pause').click();
+  const rates = [];
+  for (let i = 0; i < 3; i++) rates.push(await page.evaluate(() => window.omnee.measure(1_000_000)));
+  const rate = Math.max(...rates);
+  check(rate >= MIN_RATE, `throughput ${Math.round(rate).toLocaleString('en-US')} samples/s ≥ ${MIN_RATE.toLocaleString('en-US')}`);
+  await page.locator('#pause').click();
+
+  check(problems.length === 0, `no console errors${problems.length ? `: ${problems.join(' | ')}` : ''}`);
+  mkdirSync(out, { recursive: true });
+  await page.waitForTimeout(300);
+  await page.screenshot({ path: join(out, 'demo.png'), fullPage: true });
+  console.log(`e2e: screenshot ${join(out, 'demo.png')}`);
+  console.log(`e2e: samples/s ${Math.round(rate)}`);
+  console.log(`e2e: ${passed} passed, 0 failed`);
+} catch (e) {
+  console.error(String(e?.stack ?? e));
+  console.log(`e2e: ${passed} passed, 1 failed`);
+  process.exitCode = 1;
+} finally {
+  if (browser) await browser.close();
+  server.kill();
+}
