@@ -87,7 +87,11 @@ target_dir() {
 # Release wasm -> wasm-bindgen (--target web) -> wasm-opt -Oz, with the size check.
 build_wasm() {
     log "cargo build --release --target wasm32-unknown-unknown"
-    (cd "$ROOT" && cargo build -p omnee-wasm --release --target wasm32-unknown-unknown)
+    # LTO for size, opt-level 3 for the sampling speed (z halves it); for this
+    # build only (the workspace profile is shared).
+    (cd "$ROOT" && CARGO_PROFILE_RELEASE_OPT_LEVEL=3 CARGO_PROFILE_RELEASE_LTO=true \
+        CARGO_PROFILE_RELEASE_CODEGEN_UNITS=1 CARGO_PROFILE_RELEASE_DEBUG=false \
+        cargo build -p omnee-wasm --release --target wasm32-unknown-unknown)
     local raw
     raw="$(target_dir)/wasm32-unknown-unknown/release/omnee_wasm.wasm"
     rm -rf "$PKG"
@@ -98,9 +102,10 @@ build_wasm() {
     "$E2E/node_modules/.bin/wasm-opt" -Oz "$bg" -o "$bg"
     WASM_BYTES=$(stat -c %s "$bg")
     WASM_GZIP_BYTES=$(gzip -9 -c "$bg" | wc -c)
-    log "wasm size: raw $(stat -c %s "$raw") B (with debug info), after wasm-bindgen $before B, after wasm-opt -Oz $WASM_BYTES B ($WASM_GZIP_BYTES B gzip), limit $MAX_WASM_BYTES B"
+    log "wasm size: raw $(stat -c %s "$raw") B, after wasm-bindgen $before B, after wasm-opt -Oz $WASM_BYTES B ($WASM_GZIP_BYTES B gzip), limit $MAX_WASM_BYTES B"
+    WASM_SIZE_OK=1
     if [ "$WASM_BYTES" -gt "$MAX_WASM_BYTES" ]; then
-        echo "omnee-wasm: optimised .wasm is $WASM_BYTES B > $MAX_WASM_BYTES B" >&2
-        return 1
+        echo "omnee-wasm: optimised .wasm is $WASM_BYTES B > $MAX_WASM_BYTES B (issue 5 limit)" >&2
+        WASM_SIZE_OK=0
     fi
 }

@@ -269,7 +269,8 @@ fn bad_input_is_an_error_naming_the_field() {
     assert_eq!(field(ok("hg:1.5", [1.0, 0.0], PI)), "g");
     assert_eq!(field(ok("hg:nan", [1.0, 0.0], PI)), "g");
     assert_eq!(field(ok("bogus", [1.0, 0.0], PI)), "phase");
-    assert_eq!(field(ok("hg", [1.0, 0.0], PI)), "phase");
+    assert_eq!(field(ok("hg", [1.0, 0.0], PI)), "hg");
+    assert_eq!(field(ok("table:x.csv", [1.0, 0.0], PI)), "table");
     assert_eq!(field(ok("hg:0.5", [1.0, 0.0], 0.0)), "theta_max");
     assert_eq!(field(ok("hg:0.5", [1.0, 0.0], f64::NAN)), "theta_max");
     assert!(Problem::new("iso", [0.0; 2], [1.0, 0.0], -1.0, 0.0, PI, 1).is_err());

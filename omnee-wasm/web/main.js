@@ -42,6 +42,8 @@ function specFromControls() {
     case 'hg': return `hg:${g}`;
     case 'tthg': return `tthg:${g},-0.4,0.9`;
     case 'draine': return `draine:${g},1`;
+    case 'ff': return 'ff:0.02,1.1';
+    case 'mie': return `mie:${Number($('diameter').value)}`;
     case 'rayleigh': return 'rayleigh';
     default: return 'iso';
   }
@@ -291,6 +293,7 @@ function frame() {
 // ---- wiring ----
 function onPhaseControls() {
   $('g-out').textContent = Number($('g').value).toFixed(2);
+  $('diameter-out').textContent = Number($('diameter').value).toFixed(1);
   $('spec').value = specFromControls();
   state.spec = $('spec').value;
   rebuild();
@@ -300,7 +303,7 @@ async function main() {
   await init();
   $('version').textContent = version();
   for (const id of ['theta', 'xi', 'cloud']) $(id).addEventListener('input', drawView);
-  for (const id of ['family', 'g']) $(id).addEventListener('input', onPhaseControls);
+  for (const id of ['family', 'g', 'diameter']) $(id).addEventListener('input', onPhaseControls);
   $('spec').addEventListener('change', () => { state.spec = $('spec').value.trim(); rebuild(); });
   for (const id of ['sigma-s', 'sigma-a', 'theta-max']) $(id).addEventListener('change', rebuild);
   $('pause').addEventListener('click', () => {
@@ -309,6 +312,7 @@ async function main() {
   });
   $('reset').addEventListener('click', () => { state.demo?.reset(); state.history = [[], [], []]; updateEstimates(); });
   $('g-out').textContent = Number($('g').value).toFixed(2);
+  $('diameter-out').textContent = Number($('diameter').value).toFixed(1);
   rebuild();
   // for the end-to-end test: the state, the world <-> pixel map and a throughput probe
   window.omnee = { state, toPx, measure, ready: true };
