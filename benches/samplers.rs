@@ -1,0 +1,192 @@
+//! Cost of one sample: nanoseconds per `sample` + `pdf` for every technique
+//! and phase function, in f32 and f64 (issue 4, item 1).
+//!
+//! What is measured, per criterion benchmark:
+//!
+//! - `technique/<f32|f64>/<technique>/<phase>`: a batch of [`BATCH`] uniform
+//!   triples (fixed, pseudo-random) is pushed through
+//!   `Technique::sample(u)` and, for every returned vertex, `Technique::pdf(x1)`
+//!   of the same technique (what MIS and a renderer's bookkeeping need). The
+//!   time per iteration divided by `BATCH` is the cost of one sample. The
+//!   connection is `x0 = (0, 0, 1)`, `x2 = 0` (s = 1) in an infinite medium,
+//!   θmax = π for the single techniques (no early rejection), and `mis` is the
+//!   CLI's one-sample MIS: OMNEE restricted to θ < π/2 and equiangular over
+//!   the whole range, chosen with probability ½ each, balance heuristic.
+//!   Equiangular and distance draw ray directions uniformly on the sphere;
+//!   distance sampling uses σ = 1.
+//! - `phase/<f32|f64>/<phase>`: the phase function alone, `sample(u)` then
+//!   `pdf` of the drawn deflection.
+//! - `connection/<f32|f64>/omnee-hg0.9`: a fresh connection per sample
+//!   (`Connection::new` for a moving `x0`, then OMNEE sample + pdf), the cost a
+//!   renderer pays when every camera vertex connects to a new light point.
+//!
+//! Run: `cargo bench --bench samplers` (about 5 minutes; every benchmark has
+//! 1 s warm-up, 2 s measurement and 30 samples, set below). A filter narrows
+//! it, e.g. `cargo bench --bench samplers -- 'technique/f32/.*/hg'`.
+//! `benches/summarize.py` turns criterion's estimates into the ns/sample
+//! table of `docs/benchmarks.md`.
+
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use omnee::medium::Region;
+use omnee::mis::{Heuristic, OneSample};
+use omnee::phase::{
+    Draine, FournierForand, HenyeyGreenstein, Isotropic, Mie, PhaseFunction, Rayleigh, TwoTermHg,
+};
+use omnee::sampling::{Connection, Directions, Distance, Equiangular, Omnee, Technique};
+use omnee::{Real, Vector};
+use std::hint::black_box;
+use std::time::Duration;
+
+/// Samples per criterion iteration.
+const BATCH: usize = 256;
+
+/// `BATCH` uniform triples in `[0, 1)` from a fixed SplitMix64 stream.
+fn uniforms<F: Real>() -> Vec<[F; 3]> {
+    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut next = || {
+        state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        // 24 bits so that the f32 and f64 runs see the same numbers.
+        F::from_f64((z >> 40) as f64 / (1u64 << 24) as f64)
+    };
+    (0..BATCH).map(|_| [next(), next(), next()]).collect()
+}
+
+/// Pushes the batch through `sample` + `pdf`, returning a checksum so nothing
+/// is optimised away.
+#[inline(never)]
+fn run<F: Real, T: Technique<F> + ?Sized>(t: &T, us: &[[F; 3]]) -> F {
+    let mut acc = F::ZERO;
+    for &u in us {
+        if let Some(s) = t.sample(black_box(u)) {
+            acc += s.weight + t.pdf(s.x1);
+        }
+    }
+    acc
+}
+
+/// Every technique with one phase function.
+fn techniques<F: Real, P: PhaseFunction<F> + Copy>(
+    c: &mut Criterion,
+    precision: &str,
+    name: &str,
+    phase: P,
+) {
+    let x0 = F::Vec3::new(F::ZERO, F::ZERO, F::ONE);
+    let x2 = F::Vec3::new(F::ZERO, F::ZERO, F::ZERO);
+    let full = Connection::new(x0, x2, F::PI).unwrap();
+    let forward = Connection::new(x0, x2, F::FRAC_PI_2).unwrap();
+    let us = uniforms::<F>();
+
+    let omnee = Omnee::new(full, phase);
+    let equiangular = Equiangular::new(full, phase, Directions::Sphere, Region::Everywhere);
+    let distance =
+        Distance::new(full, phase, Directions::Sphere, Region::Everywhere, F::ONE).unwrap();
+    let omnee_forward = Omnee::new(forward, phase);
+    let mis = OneSample::new(
+        [
+            &omnee_forward as &dyn Technique<F>,
+            &equiangular as &dyn Technique<F>,
+        ],
+        [F::HALF, F::HALF],
+        Heuristic::Balance,
+    )
+    .unwrap();
+
+    let mut group = c.benchmark_group(format!("technique/{precision}"));
+    group.throughput(Throughput::Elements(BATCH as u64));
+    group.bench_function(BenchmarkId::new("omnee", name), |b| {
+        b.iter(|| run(&omnee, &us))
+    });
+    group.bench_function(BenchmarkId::new("equiangular", name), |b| {
+        b.iter(|| run(&equiangular, &us))
+    });
+    group.bench_function(BenchmarkId::new("distance", name), |b| {
+        b.iter(|| run(&distance, &us))
+    });
+    group.bench_function(BenchmarkId::new("mis", name), |b| b.iter(|| run(&mis, &us)));
+    group.finish();
+
+    let mut group = c.benchmark_group(format!("phase/{precision}"));
+    group.throughput(Throughput::Elements(BATCH as u64));
+    group.bench_function(name, |b| {
+        b.iter(|| {
+            let mut acc = F::ZERO;
+            for u in &us {
+                let d = phase.sample(black_box(u[0]));
+                acc += d.theta + phase.pdf(d);
+            }
+            acc
+        })
+    });
+    group.finish();
+}
+
+/// A new connection per sample: `Connection::new` + OMNEE sample + pdf.
+fn connection<F: Real>(c: &mut Criterion, precision: &str) {
+    let us = uniforms::<F>();
+    let hg = HenyeyGreenstein::new(F::from_f64(0.9)).unwrap();
+    let x2 = F::Vec3::new(F::ZERO, F::ZERO, F::ZERO);
+    let mut group = c.benchmark_group(format!("connection/{precision}"));
+    group.throughput(Throughput::Elements(BATCH as u64));
+    group.bench_function("omnee-hg0.9", |b| {
+        b.iter(|| {
+            let mut acc = F::ZERO;
+            for u in &us {
+                let x0 = F::Vec3::new(u[2], u[1], F::ONE);
+                let Ok(conn) = Connection::new(black_box(x0), x2, F::FRAC_PI_2) else {
+                    continue;
+                };
+                let t = Omnee::new(conn, hg);
+                if let Some(s) = t.sample(*u) {
+                    acc += s.weight + t.pdf(s.x1);
+                }
+            }
+            acc
+        })
+    });
+    group.finish();
+}
+
+fn all<F: Real>(c: &mut Criterion, precision: &str) {
+    let f = F::from_f64;
+    techniques::<F, _>(c, precision, "iso", Isotropic);
+    for g in [0.0, 0.9, 0.98] {
+        let name = format!("hg{g}");
+        techniques(c, precision, &name, HenyeyGreenstein::new(f(g)).unwrap());
+    }
+    techniques(
+        c,
+        precision,
+        "tthg",
+        TwoTermHg::two_term(f(0.99), f(-0.44), f(0.96)).unwrap(),
+    );
+    techniques(
+        c,
+        precision,
+        "ff",
+        FournierForand::new(f(0.0183), f(1.10)).unwrap(),
+    );
+    techniques(c, precision, "draine", Draine::new(f(0.6), f(1.0)).unwrap());
+    techniques(c, precision, "mie10", Mie::new(f(10.0)).unwrap());
+    techniques::<F, _>(c, precision, "rayleigh", Rayleigh);
+    connection::<F>(c, precision);
+}
+
+fn benches(c: &mut Criterion) {
+    all::<f32>(c, "f32");
+    all::<f64>(c, "f64");
+}
+
+criterion_group! {
+    name = samplers;
+    config = Criterion::default()
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(2))
+        .sample_size(30);
+    targets = benches
+}
+criterion_main!(samplers);

@@ -1,0 +1,627 @@
+//! Run time against error for the once-more term of the slab renderer
+//! (issue 4, item 2), driving the `omnee` binary of `omnee-cli`.
+//!
+//! Build the renderer first, in the same target directory:
+//! `cargo build --release -p omnee-cli && cargo bench --bench slab_time_vs_error`
+//! (or pass `-- --omnee PATH`). Options: `--resolution WxH` (default
+//! 160x120), `--max-log2 K` (spp 1 … 2^K, default 7), `--reference-spp N`
+//! (default 512, rendered twice), `--only NAME` (one variant), `--crops`
+//! (also the equal-time image comparison of the default scene: the centre
+//! 240x180 window of the 480x360 image, `--crop-budget S` CPU seconds per
+//! technique, default 1, reference `--crop-reference-spp` twice, default 512).
+//!
+//! Variants: the default scene (`omnee default-scene`: water-like slab,
+//! HG g = 0.98, σs = 0.5, σa = 0.05, light 0.95 m above the floor, so
+//! σt·H ≈ 0.52); the same scene with each phase function of issue 4; and with
+//! the default phase function at σt·H ∈ {0.1, 1, 3} (σs/σt kept).
+//!
+//! Per variant: a reference, the mean of two independent `omnee` (OMNEE,
+//! θ < π) renders of `--reference-spp` spp each; its own relMSE is estimated
+//! from the difference of the two halves (`relMSE(A, B)/4`) and reported.
+//! Then each technique renders `--terms once-more` at spp = 1, 2, 4, … on
+//! one thread (`--threads 1`); time is the child's CPU time (user + system,
+//! from `/proc/self/stat`, 10 ms ticks) because the machine is shared, and
+//! the renderer's own wall time is recorded too. The error of an image I
+//! against the reference R is the per-pixel relative MSE on the mean of R, G
+//! and B, `mean((I − R)² / (R² + ε))` with ε = (0.01 · mean R)² so that
+//! nearly black pixels do not dominate. Efficiency is the median over
+//! spp ≥ 16 (≥ 0.1 s, so the 10 ms ticks matter little) of
+//! 1/(relMSE · seconds).
+//!
+//! Writes `docs/results/slab.{md,json}`, `docs/figures/slab.svg` and with
+//! `--crops` `docs/figures/slab-equal-time.png`.
+
+mod common;
+
+use common::{arg, docs_path, flag, fmt3, median};
+use plotters::prelude::*;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const TECHS: [&str; 4] = ["omnee", "equiangular", "distance", "mis"];
+const COLORS: [RGBColor; 4] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+];
+/// Height of the light above the floor in the default scene (m).
+const LIGHT_HEIGHT: f64 = 0.95;
+/// Albedo σs/σt of the default scene.
+const ALBEDO: f64 = 0.5 / 0.55;
+
+/// A scene variant: a name, the phase spec and the optical thickness σt·H
+/// (`None`: the default scene's coefficients).
+struct Variant {
+    name: String,
+    phase: &'static str,
+    tau: Option<f64>,
+}
+
+fn variants() -> Vec<Variant> {
+    let mut v = vec![Variant {
+        name: "default (hg:0.98, τ≈0.52)".into(),
+        phase: "hg:0.98",
+        tau: None,
+    }];
+    for p in [
+        "hg:0",
+        "hg:0.5",
+        "hg:0.9",
+        "tthg:0.99,-0.44,0.96",
+        "ff:0.0183,1.10",
+        "mie:10",
+    ] {
+        v.push(Variant {
+            name: format!("{p}, τ≈0.52"),
+            phase: p,
+            tau: None,
+        });
+    }
+    for tau in [0.1, 1.0, 3.0] {
+        v.push(Variant {
+            name: format!("hg:0.98, τ={tau}"),
+            phase: "hg:0.98",
+            tau: Some(tau),
+        });
+    }
+    v
+}
+
+/// The default scene with the variant's phase function and coefficients.
+fn scene_text(omnee: &Path, v: &Variant) -> String {
+    let out = Command::new(omnee)
+        .arg("default-scene")
+        .output()
+        .expect("run omnee default-scene");
+    assert!(out.status.success(), "omnee default-scene failed");
+    let text = String::from_utf8(out.stdout).expect("utf-8 scene");
+    let mut lines = Vec::new();
+    for line in text.lines() {
+        let key = line.split('=').next().unwrap_or("").trim();
+        let comment = line.find('#').map(|i| &line[i..]).unwrap_or("");
+        let l = match (key, v.tau) {
+            ("phase", _) if line.starts_with("phase") => {
+                format!("phase = \"{}\" {comment}", v.phase)
+            }
+            ("sigma_s", Some(tau)) if line.starts_with("sigma_s") => {
+                format!("sigma_s = {} {comment}", ALBEDO * tau / LIGHT_HEIGHT)
+            }
+            ("sigma_a", Some(tau)) if line.starts_with("sigma_a") => {
+                format!(
+                    "sigma_a = {} {comment}",
+                    (1.0 - ALBEDO) * tau / LIGHT_HEIGHT
+                )
+            }
+            _ => line.to_string(),
+        };
+        lines.push(l);
+    }
+    lines.join("\n")
+}
+
+/// CPU time (user + system) of the waited-for children of this process, in
+/// seconds (fields 16 and 17 of `/proc/self/stat`, in 1/100 s ticks).
+fn children_cpu() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").expect("read /proc/self/stat");
+    // The command name (field 2) may contain spaces: split after its ')'.
+    let rest = &stat[stat.rfind(')').expect("stat format") + 2..];
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    // rest starts at field 3; cutime, cstime are fields 16, 17.
+    let ticks: f64 = fields[13].parse::<f64>().unwrap() + fields[14].parse::<f64>().unwrap();
+    ticks / 100.0
+}
+
+/// An RGB image of floats.
+struct Img {
+    width: usize,
+    height: usize,
+    rgb: Vec<[f32; 3]>,
+}
+
+fn read_exr(path: &Path) -> Img {
+    use exr::prelude::*;
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_file(path)
+        .expect("read EXR");
+    let layer = &image.layer_data;
+    let (w, h) = (layer.size.width(), layer.size.height());
+    let mut rgb = vec![[0.0f32; 3]; w * h];
+    for ch in &layer.channel_data.list {
+        let k = match ch.name.to_string().as_str() {
+            "R" => 0,
+            "G" => 1,
+            "B" => 2,
+            _ => continue,
+        };
+        for (i, v) in ch.sample_data.values_as_f32().enumerate() {
+            rgb[i][k] = v;
+        }
+    }
+    Img {
+        width: w,
+        height: h,
+        rgb,
+    }
+}
+
+/// One render: (image, child CPU seconds, renderer's wall seconds).
+#[allow(clippy::too_many_arguments)]
+fn render(
+    omnee: &Path,
+    scene: &Path,
+    tech: &str,
+    spp: u32,
+    seed: u64,
+    resolution: &str,
+    threads: usize,
+    extra: &[&str],
+    out: &Path,
+) -> (Img, f64, f64) {
+    let before = children_cpu();
+    let output = Command::new(omnee)
+        .args(["render", "--scene"])
+        .arg(scene)
+        .args(["--terms", "once-more", "--technique", tech])
+        .args(["--spp", &spp.to_string(), "--seed", &seed.to_string()])
+        .args([
+            "--resolution",
+            resolution,
+            "--threads",
+            &threads.to_string(),
+        ])
+        .args(extra)
+        .args(["--format", "exr", "--progress", "never", "--json", "-o"])
+        .arg(out)
+        .output()
+        .expect("run omnee render");
+    let cpu = children_cpu() - before;
+    assert!(
+        output.status.success(),
+        "omnee render failed: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let summary: serde_json::Value =
+        serde_json::from_slice(&output.stdout).expect("render --json summary");
+    let wall = summary["seconds"].as_f64().unwrap_or(f64::NAN);
+    (read_exr(&out.with_extension("exr")), cpu, wall)
+}
+
+fn luminance(p: [f32; 3]) -> f64 {
+    (p[0] as f64 + p[1] as f64 + p[2] as f64) / 3.0
+}
+
+/// Per-pixel relMSE of `img` against `reference`, ε = (0.01 · mean R)².
+fn rel_mse(img: &Img, reference: &[f64]) -> f64 {
+    let mean = reference.iter().sum::<f64>() / reference.len() as f64;
+    let eps = (0.01 * mean).powi(2);
+    img.rgb
+        .iter()
+        .zip(reference)
+        .map(|(&p, &r)| (luminance(p) - r).powi(2) / (r * r + eps))
+        .sum::<f64>()
+        / reference.len() as f64
+}
+
+/// (spp, CPU seconds, wall seconds, relMSE) per render.
+type Curve = Vec<(u32, f64, f64, f64)>;
+
+fn efficiency(c: &Curve) -> f64 {
+    let mut e: Vec<f64> = c
+        .iter()
+        .filter(|p| p.0 >= 16)
+        .map(|p| 1.0 / (p.3 * p.1.max(0.01)))
+        .collect();
+    if e.is_empty() {
+        f64::NAN
+    } else {
+        median(&mut e)
+    }
+}
+
+/// relMSE at `budget` CPU seconds, log-log interpolated, slope −1 outside.
+fn at_time(c: &Curve, budget: f64) -> f64 {
+    let pts: Vec<(f64, f64)> = c.iter().map(|p| (p.1.max(0.01), p.3)).collect();
+    let (first, last) = (pts[0], pts[pts.len() - 1]);
+    if budget <= first.0 {
+        return first.1 * first.0 / budget;
+    }
+    if budget >= last.0 {
+        return last.1 * last.0 / budget;
+    }
+    for w in pts.windows(2) {
+        let ((t0, r0), (t1, r1)) = (w[0], w[1]);
+        if budget >= t0 && budget <= t1 && t1 > t0 {
+            let f = (budget / t0).ln() / (t1 / t0).ln();
+            return (r0.ln() + f * (r1 / r0).ln()).exp();
+        }
+    }
+    last.1 * last.0 / budget
+}
+
+struct Row {
+    name: String,
+    reference_noise: f64,
+    curves: Vec<Curve>,
+}
+
+fn plot(rows: &[Row], path: &Path) -> Result<(), Box<dyn std::error::Error>> {
+    let cols = 2usize;
+    let nrows = rows.len().div_ceil(cols);
+    let (w, h) = (420u32, 260u32);
+    let root = SVGBackend::new(path, (w * cols as u32, h * nrows as u32 + 40)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (legend, grid) = root.split_vertically(40);
+    for (i, name) in TECHS.iter().enumerate() {
+        let x = 20 + 200 * i as i32;
+        legend.draw(&PathElement::new(
+            vec![(x, 20), (x + 30, 20)],
+            COLORS[i].stroke_width(3),
+        ))?;
+        legend.draw(&Text::new(
+            name.to_string(),
+            (x + 38, 12),
+            ("sans-serif", 16),
+        ))?;
+    }
+    for (row, panel) in rows.iter().zip(grid.split_evenly((nrows, cols)).iter()) {
+        let all: Vec<(f64, f64)> = row
+            .curves
+            .iter()
+            .flatten()
+            .map(|p| (p.1.max(0.01), p.3))
+            .filter(|p| p.1 > 0.0)
+            .collect();
+        let (t0, t1) = all
+            .iter()
+            .fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.0), a.1.max(p.0)));
+        let (r0, r1) = all
+            .iter()
+            .fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.1), a.1.max(p.1)));
+        let mut chart = ChartBuilder::on(panel)
+            .caption(&row.name, ("sans-serif", 14))
+            .margin(6)
+            .x_label_area_size(28)
+            .y_label_area_size(48)
+            .build_cartesian_2d(
+                (t0 * 0.8..t1 * 1.25).log_scale(),
+                (r0 * 0.5..r1 * 2.0).log_scale(),
+            )?;
+        chart
+            .configure_mesh()
+            .x_desc("CPU seconds (one core)")
+            .y_desc("relMSE")
+            .x_labels(4)
+            .y_labels(5)
+            .x_label_formatter(&|x| format!("{x:.0e}"))
+            .y_label_formatter(&|y| format!("{y:.0e}"))
+            .label_style(("sans-serif", 10))
+            .draw()?;
+        for (i, c) in row.curves.iter().enumerate() {
+            let pts: Vec<(f64, f64)> = c
+                .iter()
+                .map(|p| (p.1.max(0.01), p.3))
+                .filter(|p| p.1 > 0.0)
+                .collect();
+            chart.draw_series(LineSeries::new(pts.clone(), COLORS[i].stroke_width(2)))?;
+            chart.draw_series(pts.iter().map(|&p| Circle::new(p, 2, COLORS[i].filled())))?;
+        }
+    }
+    root.present()?;
+    Ok(())
+}
+
+/// sRGB encoding of a linear value in [0, 1].
+fn srgb(x: f64) -> u8 {
+    let x = x.clamp(0.0, 1.0);
+    let y = if x <= 0.003_130_8 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    };
+    (y * 255.0 + 0.5) as u8
+}
+
+/// The window `[x0, x1) × [y0, y1)` of `img`.
+fn window(img: &Img, [x0, y0, x1, y1]: [usize; 4]) -> Img {
+    let mut rgb = Vec::with_capacity((x1 - x0) * (y1 - y0));
+    for y in y0..y1 {
+        rgb.extend_from_slice(&img.rgb[y * img.width + x0..y * img.width + x1]);
+    }
+    Img {
+        width: x1 - x0,
+        height: y1 - y0,
+        rgb,
+    }
+}
+
+/// The equal-time comparison: the centre window of the default scene at
+/// 480x360, rendered by each technique with the same CPU time (spp from the
+/// measured CPU seconds per spp, scaled by the pixel count), and a
+/// reference, side by side with one exposure.
+fn crops(
+    omnee: &Path,
+    scene: &Path,
+    dir: &Path,
+    curves: &[Curve],
+    small_pixels: usize,
+    md: &mut String,
+) {
+    let budget: f64 = arg("--crop-budget", 1.0);
+    let reference_spp: u32 = arg("--crop-reference-spp", 512);
+    let win = [120usize, 90, 360, 270];
+    let crop = format!("{},{},{},{}", win[0], win[1], win[2], win[3]);
+    let extra = ["--crop", crop.as_str()];
+    let pixels = (win[2] - win[0]) * (win[3] - win[1]);
+    let go = |tech: &str, spp: u32, seed: u64, threads: usize| {
+        let (img, cpu, _) = render(
+            omnee,
+            scene,
+            tech,
+            spp,
+            seed,
+            "480x360",
+            threads,
+            &extra,
+            &dir.join(format!("crop-{tech}")),
+        );
+        (window(&img, win), cpu)
+    };
+    let (a, _) = go("omnee", reference_spp, 9_000_001, 2);
+    let (b, _) = go("omnee", reference_spp, 9_000_002, 2);
+    let mut reference = a;
+    for (p, q) in reference.rgb.iter_mut().zip(&b.rgb) {
+        for (x, y) in p.iter_mut().zip(q) {
+            *x = 0.5 * (*x + y);
+        }
+    }
+    let reference_lum: Vec<f64> = reference.rgb.iter().map(|&p| luminance(p)).collect();
+    let mut sorted = reference_lum.clone();
+    sorted.sort_by(|a, b| a.total_cmp(b));
+    let scale = 0.8 / sorted[(sorted.len() as f64 * 0.995) as usize].max(1e-30);
+    let (cw, ch) = (reference.width, reference.height);
+    let gap = 4;
+    let panels = TECHS.len() + 1;
+    let (out_w, out_h) = (panels * cw + (panels - 1) * gap, ch);
+    let mut out = vec![255u8; out_w * out_h * 3];
+    let mut put = |k: usize, img: &Img| {
+        for y in 0..ch {
+            for x in 0..cw {
+                let p = img.rgb[y * cw + x];
+                let o = (y * out_w + k * (cw + gap) + x) * 3;
+                for c in 0..3 {
+                    out[o + c] = srgb(p[c] as f64 * scale);
+                }
+            }
+        }
+    };
+    writeln!(
+        md,
+        "\n### Equal-time crops (default scene, window {crop} of 480x360, about {budget} s of one core each)\n\n\
+         ![equal-time crops](../figures/slab-equal-time.png)\n\n\
+         Left to right: omnee, equiangular, distance, mis, reference (omnee, 2 × {reference_spp} spp). \
+         One exposure for all panels.\n\n| technique | spp | CPU s | relMSE |\n|---|---|---|---|"
+    )
+    .unwrap();
+    for (k, tech) in TECHS.iter().enumerate() {
+        let &(spp_max, t_max, _, _) = curves[k].last().unwrap();
+        let per_spp = t_max / spp_max as f64 * pixels as f64 / small_pixels as f64;
+        let spp = ((budget / per_spp).round() as u32).max(1);
+        let (img, cpu) = go(tech, spp, 8_000 + k as u64, 1);
+        writeln!(
+            md,
+            "| {tech} | {spp} | {cpu:.2} | {} |",
+            fmt3(rel_mse(&img, &reference_lum))
+        )
+        .unwrap();
+        put(k, &img);
+    }
+    put(TECHS.len(), &reference);
+    let path = docs_path("figures/slab-equal-time.png");
+    let file = std::fs::File::create(&path).expect("create png");
+    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), out_w as u32, out_h as u32);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    let mut writer = enc.write_header().expect("png header");
+    writer.write_image_data(&out).expect("png data");
+}
+
+fn main() {
+    let default_bin = std::env::current_exe()
+        .ok()
+        .and_then(|p| Some(p.parent()?.parent()?.join("omnee")))
+        .unwrap_or_else(|| PathBuf::from("omnee"));
+    let omnee = PathBuf::from(arg("--omnee", default_bin.display().to_string()));
+    if !omnee.exists() {
+        eprintln!(
+            "{} not found: build the renderer first (`cargo build --release -p omnee-cli` \
+             with the same CARGO_TARGET_DIR) or pass `-- --omnee PATH`",
+            omnee.display()
+        );
+        std::process::exit(2);
+    }
+    let resolution: String = arg("--resolution", "160x120".to_string());
+    let max_log2: u32 = arg("--max-log2", 7);
+    let reference_spp: u32 = arg("--reference-spp", 512);
+    let only: String = arg("--only", String::new());
+    let threads: usize = arg("--threads", 2);
+    let dir = std::env::temp_dir().join(format!("omnee-slab-bench-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let started = std::time::Instant::now();
+
+    let mut rows = Vec::new();
+    let mut default_reference = None;
+    for (vi, v) in variants().into_iter().enumerate() {
+        if !only.is_empty() && !v.name.contains(&only) {
+            continue;
+        }
+        let scene = dir.join(format!("scene-{vi}.toml"));
+        std::fs::write(&scene, scene_text(&omnee, &v)).expect("write scene");
+        // Reference: two independent halves on all threads.
+        let reference_run = |seed: u64, name: &str| {
+            render(
+                &omnee,
+                &scene,
+                "omnee",
+                reference_spp,
+                seed,
+                &resolution,
+                threads,
+                &[],
+                &dir.join(name),
+            )
+            .0
+        };
+        let (a, b) = (
+            reference_run(1_000_001, "ref-a"),
+            reference_run(2_000_003, "ref-b"),
+        );
+        let reference: Vec<f64> = a
+            .rgb
+            .iter()
+            .zip(&b.rgb)
+            .map(|(&p, &q)| 0.5 * (luminance(p) + luminance(q)))
+            .collect();
+        let reference_noise =
+            rel_mse(&a, &b.rgb.iter().map(|&p| luminance(p)).collect::<Vec<_>>()) / 4.0;
+        let mut curves = vec![Curve::new(); TECHS.len()];
+        for log2 in 0..=max_log2 {
+            let spp = 1u32 << log2;
+            for (k, tech) in TECHS.iter().enumerate() {
+                let (img, cpu, wall) = render(
+                    &omnee,
+                    &scene,
+                    tech,
+                    spp,
+                    (vi as u64) << 32 | (k as u64) << 16 | log2 as u64,
+                    &resolution,
+                    1,
+                    &[],
+                    &dir.join(format!("run-{tech}")),
+                );
+                curves[k].push((spp, cpu, wall, rel_mse(&img, &reference)));
+            }
+        }
+        eprintln!(
+            "{}: reference noise {:.2e}, efficiency {:?} ({:.0} s)",
+            v.name,
+            reference_noise,
+            curves.iter().map(efficiency).collect::<Vec<_>>(),
+            started.elapsed().as_secs_f64()
+        );
+        if vi == 0 {
+            default_reference = Some((scene.clone(), curves.clone(), a.width * a.height));
+        }
+        rows.push(Row {
+            name: v.name,
+            reference_noise,
+            curves,
+        });
+    }
+
+    let budget: f64 = arg("--budget", 1.0);
+    let mut md = String::new();
+    writeln!(
+        md,
+        "<!-- generated by `cargo bench --bench slab_time_vs_error -- --resolution {resolution} --max-log2 {max_log2} --reference-spp {reference_spp}`; do not edit -->\n\n\
+         ### Slab scene, once-more term: relMSE at equal time ({budget} s of one core) and efficiency\n\n\
+         Efficiency is the median over spp = 16 … 2^{max_log2} of 1/(relMSE·CPU seconds); `÷ eq.` relative to equiangular, \
+         `÷ best single` relative to the best of omnee, equiangular and distance (other than itself). \
+         The reference noise is the reference's own relMSE, estimated from its two halves.\n\n\
+         | variant | ref. noise | relMSE omnee | relMSE equiangular | relMSE distance | relMSE mis | omnee ÷ eq. | omnee ÷ best other single | distance ÷ eq. | mis ÷ eq. | mis ÷ best single | CPU s per spp omnee / eq. / dist. / mis |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|"
+    )
+    .unwrap();
+    let mut json = Vec::new();
+    for row in &rows {
+        let eff: Vec<f64> = row.curves.iter().map(efficiency).collect();
+        let best_single = |i: usize| {
+            (0..3)
+                .filter(|&j| j != i)
+                .map(|j| eff[j])
+                .fold(0.0f64, f64::max)
+        };
+        let per_spp = |i: usize| {
+            let &(spp, t, _, _) = row.curves[i].last().unwrap();
+            t / spp as f64
+        };
+        writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} / {} / {} / {} |",
+            row.name,
+            fmt3(row.reference_noise),
+            fmt3(at_time(&row.curves[0], budget)),
+            fmt3(at_time(&row.curves[1], budget)),
+            fmt3(at_time(&row.curves[2], budget)),
+            fmt3(at_time(&row.curves[3], budget)),
+            fmt3(eff[0] / eff[1]),
+            fmt3(eff[0] / best_single(0)),
+            fmt3(eff[2] / eff[1]),
+            fmt3(eff[3] / eff[1]),
+            fmt3(eff[3] / best_single(3)),
+            fmt3(per_spp(0)),
+            fmt3(per_spp(1)),
+            fmt3(per_spp(2)),
+            fmt3(per_spp(3)),
+        )
+        .unwrap();
+        json.push(serde_json::json!({
+            "variant": row.name,
+            "reference_noise": row.reference_noise,
+            "curves": row.curves.iter().zip(TECHS).map(|(c, t)| serde_json::json!({
+                "technique": t,
+                "efficiency": efficiency(c),
+                "points": c.iter().map(|&(spp, cpu, wall, r)| serde_json::json!({"spp": spp, "cpu_seconds": cpu, "wall_seconds": wall, "rel_mse": r})).collect::<Vec<_>>(),
+            })).collect::<Vec<_>>(),
+        }));
+    }
+    if flag("--crops") {
+        if let Some((scene, curves, pixels)) = &default_reference {
+            crops(&omnee, scene, &dir, curves, *pixels, &mut md);
+        }
+    }
+    writeln!(
+        md,
+        "\nTotal run time {:.0} s.",
+        started.elapsed().as_secs_f64()
+    )
+    .unwrap();
+    std::fs::write(docs_path("results/slab.md"), &md).expect("write md");
+    std::fs::write(
+        docs_path("results/slab.json"),
+        serde_json::to_string_pretty(&serde_json::json!({
+            "resolution": resolution, "reference_spp": reference_spp, "rows": json
+        }))
+        .unwrap(),
+    )
+    .expect("write json");
+    plot(&rows, &docs_path("figures/slab.svg")).expect("plot");
+    let _ = std::fs::remove_dir_all(&dir);
+    println!("{md}");
+}

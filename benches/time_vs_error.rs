@@ -1,0 +1,550 @@
+//! Run time against error for the point-to-point once-more integral
+//! (issue 4, items 2 and 3), against its f64 quadrature reference.
+//!
+//! The problem (MATH.md §5, `omnee::reference::PointToPoint`): a unit point
+//! light at `x0 = 0`, a point receiver at `x2 = (0, 0, 1)` (s = 1), an infinite
+//! homogeneous medium with σt·s = τ and albedo 1 (relative errors do not
+//! depend on σs), the whole range of deflections θ < π. Every technique
+//! estimates `I = ∫ σs p(θ) e^{−σt(d1+d2)} / (d1² d2²) dx1` in f32, the
+//! renderer's precision, accumulating in f64:
+//!
+//! - `omnee`: OMNEE over θ < π (the full range: finite variance because of
+//!   the attenuation, MATH.md §3);
+//! - `equiangular`: a uniform direction from `x2`, equiangular distance;
+//! - `distance`: a uniform direction from `x2`, free flight with σ = σt;
+//! - `mis`: the CLI's one-sample MIS, OMNEE on θ < π/2 and equiangular on
+//!   θ < π with probability ½ each, balance heuristic;
+//! - `mis-full`: not in the CLI, measured as a candidate: the same MIS with
+//!   OMNEE over the full range θ < π.
+//!
+//! For each configuration (phase function × τ) and each technique, `REPS`
+//! independent runs of N = 2^8 … 2^`MAX` samples are timed on one thread
+//! (techniques interleaved, so load changes hit all of them alike). At each N
+//! `relMSE = mean over runs of (estimate/I − 1)²` and `time` = mean time of
+//! one run, measured as the thread's CPU time (`CLOCK_THREAD_CPUTIME_ID`):
+//! the machine is shared, and CPU time does not count the time the thread
+//! waits for a core; the wall time is recorded in the JSON next to it. Plain equiangular and distance sampling have infinite
+//! variance for a point light (`1/d1²` near `x0`), so their relMSE is dominated
+//! by rare samples: the efficiency `1/(relMSE · time)` of a technique is the
+//! **median over the sample counts N ≥ 2^12**, and the relMSE at equal time is
+//! read off the measured curve (log-log interpolation; slope −1
+//! extrapolation outside it).
+//!
+//! It also re-measures the per-sample relative variances of MATH.md §6.
+//!
+//! Run: `cargo bench --bench time_vs_error` (about 3 minutes on one core)
+//! with optional `-- --reps R --max-log2 M --budget-ms T`. Writes
+//! `docs/results/point-to-point.{md,json}` and `docs/figures/point-to-point.svg`.
+
+mod common;
+
+use common::{SplitMix, arg, docs_path, fmt3, median, seed};
+use cpu_time::ThreadTime;
+use glam::{DVec3, Vec3};
+use omnee::medium::{Homogeneous, Region};
+use omnee::mis::{Heuristic, OneSample};
+use omnee::phase::{Phase, Spec};
+use omnee::reference::PointToPoint;
+use omnee::sampling::{Connection, Directions, Distance, Equiangular, Omnee, Technique};
+use plotters::prelude::*;
+use std::fmt::Write as _;
+use std::time::Instant;
+
+/// The phase functions of issue 4 in the CLI's spec syntax.
+const PHASES: [&str; 7] = [
+    "hg:0",
+    "hg:0.5",
+    "hg:0.9",
+    "hg:0.98",
+    "tthg:0.99,-0.44,0.96",
+    "ff:0.0183,1.10",
+    "mie:10",
+];
+/// Optical thicknesses σt·s.
+const TAUS: [f64; 3] = [0.1, 1.0, 3.0];
+/// Technique names, in table order.
+const TECHS: [&str; NT] = ["omnee", "equiangular", "distance", "mis", "mis-full"];
+/// Number of techniques.
+const NT: usize = 5;
+/// The single (non-MIS) techniques, for "best single technique".
+const SINGLE: [usize; 3] = [0, 1, 2];
+/// Plot colours per technique.
+const COLORS: [RGBColor; NT] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(120, 120, 120),
+];
+/// Smallest sample count, log2.
+const MIN_LOG2: u32 = 8;
+/// Sample counts from this log2 on enter the efficiency median (timer
+/// resolution and fixed costs matter below).
+const EFF_LOG2: u32 = 12;
+
+fn phase<F: omnee::Real>(spec: &str) -> Phase<'static, F> {
+    match Spec::<F>::parse(spec).expect("valid spec") {
+        Spec::Analytic(p) => p,
+        Spec::Table { .. } => unreachable!("no tables here"),
+    }
+}
+
+fn problem_f32(tau: f64, sigma_s: f64, theta_max: f32) -> PointToPoint<f32> {
+    let c = Connection::new(Vec3::ZERO, Vec3::Z, theta_max).unwrap();
+    let m = Homogeneous::from_extinction(sigma_s as f32, tau as f32).unwrap();
+    PointToPoint::new(c, m, None).unwrap()
+}
+
+fn reference(spec: &str, tau: f64, sigma_s: f64, theta_max: f64) -> f64 {
+    let c = Connection::new(DVec3::ZERO, DVec3::Z, theta_max).unwrap();
+    let m = Homogeneous::from_extinction(sigma_s, tau).unwrap();
+    PointToPoint::new(c, m, None)
+        .unwrap()
+        .integral(&phase::<f64>(spec))
+}
+
+/// Mean and (unbiased) variance of `n` one-sample estimates.
+#[inline(never)]
+fn run<T: Technique<f32> + ?Sized>(
+    t: &T,
+    p: &PointToPoint<f32>,
+    n: u64,
+    rng: &mut SplitMix,
+) -> (f64, f64) {
+    let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+    for _ in 0..n {
+        let u = [rng.f32(), rng.f32(), rng.f32()];
+        if let Some(s) = t.sample(u) {
+            let e = p.estimate(&s) as f64;
+            sum += e;
+            sum2 += e * e;
+        }
+    }
+    let mean = sum / n as f64;
+    let var = if n > 1 {
+        (sum2 - sum * mean).max(0.0) / (n - 1) as f64
+    } else {
+        0.0
+    };
+    (mean, var)
+}
+
+/// The four techniques for one configuration, called by index (static
+/// dispatch inside each arm).
+struct Techniques<'a> {
+    omnee: Omnee<f32, &'a Phase<'static, f32>>,
+    equiangular: Equiangular<f32, &'a Phase<'static, f32>>,
+    distance: Distance<f32, &'a Phase<'static, f32>>,
+    omnee_forward: Omnee<f32, &'a Phase<'static, f32>>,
+}
+
+impl<'a> Techniques<'a> {
+    fn new(p: &'a Phase<'static, f32>, full: Connection<f32>, sigma_t: f32) -> Self {
+        let forward = Connection::new(full.axis.x0, full.axis.x2, std::f32::consts::FRAC_PI_2)
+            .expect("valid forward connection");
+        Self {
+            omnee: Omnee::new(full, p),
+            equiangular: Equiangular::new(full, p, Directions::Sphere, Region::Everywhere),
+            distance: Distance::new(full, p, Directions::Sphere, Region::Everywhere, sigma_t)
+                .unwrap(),
+            omnee_forward: Omnee::new(forward, p),
+        }
+    }
+
+    fn run(&self, i: usize, p: &PointToPoint<f32>, n: u64, rng: &mut SplitMix) -> (f64, f64) {
+        match i {
+            0 => run(&self.omnee, p, n, rng),
+            1 => run(&self.equiangular, p, n, rng),
+            2 => run(&self.distance, p, n, rng),
+            3 => {
+                let mis = OneSample::new(
+                    [
+                        &self.omnee_forward as &dyn Technique<f32>,
+                        &self.equiangular as &dyn Technique<f32>,
+                    ],
+                    [0.5, 0.5],
+                    Heuristic::Balance,
+                )
+                .unwrap();
+                run(&mis, p, n, rng)
+            }
+            _ => {
+                let mis = OneSample::new(
+                    [
+                        &self.omnee as &dyn Technique<f32>,
+                        &self.equiangular as &dyn Technique<f32>,
+                    ],
+                    [0.5, 0.5],
+                    Heuristic::Balance,
+                )
+                .unwrap();
+                run(&mis, p, n, rng)
+            }
+        }
+    }
+}
+
+/// One technique's curve: (N, CPU seconds per run, relMSE) per sample
+/// count, and the wall seconds per run.
+#[derive(Clone, Debug, Default)]
+struct Curve {
+    points: Vec<(u64, f64, f64)>,
+    wall: Vec<f64>,
+}
+
+impl Curve {
+    /// Median over N ≥ 2^EFF_LOG2 of `1/(relMSE · time)`.
+    fn efficiency(&self) -> f64 {
+        let mut e: Vec<f64> = self
+            .points
+            .iter()
+            .filter(|p| p.0 >= 1 << EFF_LOG2)
+            .map(|&(_, t, r)| 1.0 / (r * t))
+            .collect();
+        if e.is_empty() {
+            f64::NAN
+        } else {
+            median(&mut e)
+        }
+    }
+
+    /// relMSE at `budget` seconds, log-log interpolated; slope −1 beyond the ends.
+    fn at_time(&self, budget: f64) -> f64 {
+        let p = &self.points;
+        let (first, last) = (p[0], p[p.len() - 1]);
+        if budget <= first.1 {
+            return first.2 * first.1 / budget;
+        }
+        if budget >= last.1 {
+            return last.2 * last.1 / budget;
+        }
+        for w in p.windows(2) {
+            let ((_, t0, r0), (_, t1, r1)) = (w[0], w[1]);
+            if budget >= t0 && budget <= t1 && t1 > t0 {
+                let f = (budget / t0).ln() / (t1 / t0).ln();
+                return (r0.ln() + f * (r1 / r0).ln()).exp();
+            }
+        }
+        f64::NAN
+    }
+}
+
+struct Row {
+    spec: &'static str,
+    tau: f64,
+    reference: f64,
+    curves: [Curve; NT],
+}
+
+fn measure(spec: &'static str, tau: f64, reps: u64, max_log2: u32) -> Row {
+    let sigma_s = tau; // albedo 1
+    let reference = reference(spec, tau, sigma_s, std::f64::consts::PI);
+    let p = phase::<f32>(spec);
+    let problem = problem_f32(tau, sigma_s, std::f32::consts::PI);
+    let techs = Techniques::new(&p, problem.connection, tau as f32);
+    let mut curves: [Curve; NT] = Default::default();
+    for log2 in MIN_LOG2..=max_log2 {
+        let n = 1u64 << log2;
+        let mut sq = [0.0f64; NT];
+        let mut secs = [0.0f64; NT];
+        let mut wall = [0.0f64; NT];
+        for rep in 0..reps {
+            for i in 0..NT {
+                let mut rng = SplitMix::new(seed(&[
+                    spec.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+                        (h ^ b as u64).wrapping_mul(0x100_0000_01b3)
+                    }),
+                    tau.to_bits(),
+                    i as u64,
+                    log2 as u64,
+                    rep,
+                ]));
+                let (start, cpu) = (Instant::now(), ThreadTime::now());
+                let (mean, _) = techs.run(i, &problem, n, &mut rng);
+                secs[i] += cpu.elapsed().as_secs_f64();
+                wall[i] += start.elapsed().as_secs_f64();
+                sq[i] += (mean / reference - 1.0).powi(2);
+            }
+        }
+        for (i, c) in curves.iter_mut().enumerate() {
+            c.points
+                .push((n, secs[i] / reps as f64, sq[i] / reps as f64));
+            c.wall.push(wall[i] / reps as f64);
+        }
+    }
+    Row {
+        spec,
+        tau,
+        reference,
+        curves,
+    }
+}
+
+/// MATH.md §6: per-sample relative variance Var[estimate]/I², 4·10⁵ samples.
+fn math_table(out: &mut String) {
+    let rows: [(f64, f64, bool, [&str; 2]); 8] = [
+        (0.25, 0.0, true, ["1.0", "7.0"]),
+        (0.25, 0.9, true, ["0.027", "1.4e4"]),
+        (0.25, 0.98, true, ["0.0050", "2.3e5"]),
+        (0.25, 0.997, true, ["0.00083", "176 (mean off 13×)"]),
+        (0.0, 0.0, false, ["5.3", "4.2"]),
+        (0.1, 0.9, false, ["0.097", "7.8e3"]),
+        (1.0, 0.0, false, ["0.31", "163"]),
+        (1.0, 0.98, false, ["0.0023", "9.8e3"]),
+    ];
+    let n = 400_000;
+    writeln!(
+        out,
+        "| σt·s | g | OMNEE range | OMNEE rel. var. (MATH §6) | OMNEE mean/I | equiangular rel. var. (MATH §6) | equiangular mean/I |\n|---|---|---|---|---|---|---|"
+    )
+    .unwrap();
+    for (k, &(tau, g, forward, math)) in rows.iter().enumerate() {
+        let spec = format!("hg:{g}");
+        let spec: &'static str = Box::leak(spec.into_boxed_str());
+        let theta_max = if forward {
+            std::f64::consts::FRAC_PI_2
+        } else {
+            std::f64::consts::PI
+        };
+        let p = phase::<f32>(spec);
+        let fwd = problem_f32(tau, 0.2, theta_max as f32);
+        let full = problem_f32(tau, 0.2, std::f32::consts::PI);
+        let (i_fwd, i_full) = (
+            reference(spec, tau, 0.2, theta_max),
+            reference(spec, tau, 0.2, std::f64::consts::PI),
+        );
+        let omnee = Omnee::new(fwd.connection, &p);
+        let eq = Equiangular::new(full.connection, &p, Directions::Sphere, Region::Everywhere);
+        let (m_o, v_o) = run(&omnee, &fwd, n, &mut SplitMix::new(seed(&[k as u64, 1])));
+        let (m_e, v_e) = run(&eq, &full, n, &mut SplitMix::new(seed(&[k as u64, 2])));
+        writeln!(
+            out,
+            "| {tau} | {g} | {} | {} ({}) | {} | {} ({}) | {} |",
+            if forward { "θ < π/2" } else { "θ < π" },
+            fmt3(v_o / (i_fwd * i_fwd)),
+            math[0],
+            fmt3(m_o / i_fwd),
+            fmt3(v_e / (i_full * i_full)),
+            math[1],
+            fmt3(m_e / i_full),
+        )
+        .unwrap();
+    }
+}
+
+fn plot(rows: &[Row], path: &std::path::Path) -> Result<(), Box<dyn std::error::Error>> {
+    let (w, h) = (330u32, 250u32);
+    let root = SVGBackend::new(path, (w * TAUS.len() as u32, h * PHASES.len() as u32 + 40))
+        .into_drawing_area();
+    root.fill(&WHITE)?;
+    let (legend, grid) = root.split_vertically(40);
+    for (i, name) in TECHS.iter().enumerate() {
+        let x = 20 + 190 * i as i32;
+        legend.draw(&PathElement::new(
+            vec![(x, 20), (x + 30, 20)],
+            COLORS[i].stroke_width(3),
+        ))?;
+        legend.draw(&Text::new(
+            name.to_string(),
+            (x + 38, 12),
+            ("sans-serif", 16),
+        ))?;
+    }
+    let panels = grid.split_evenly((PHASES.len(), TAUS.len()));
+    for (row, panel) in rows.iter().zip(panels.iter()) {
+        let all: Vec<(f64, f64)> = row
+            .curves
+            .iter()
+            .flat_map(|c| c.points.iter().map(|p| (p.1, p.2)))
+            .filter(|p| p.0 > 0.0 && p.1 > 0.0)
+            .collect();
+        let (t0, t1) = all
+            .iter()
+            .fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.0), a.1.max(p.0)));
+        let (r0, r1) = all
+            .iter()
+            .fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.1), a.1.max(p.1)));
+        let mut chart = ChartBuilder::on(panel)
+            .caption(format!("{}, τ = {}", row.spec, row.tau), ("sans-serif", 14))
+            .margin(6)
+            .x_label_area_size(28)
+            .y_label_area_size(48)
+            .build_cartesian_2d(
+                (t0 * 0.8..t1 * 1.25).log_scale(),
+                (r0 * 0.5..r1 * 2.0).log_scale(),
+            )?;
+        chart
+            .configure_mesh()
+            .x_desc("CPU seconds")
+            .y_desc("relMSE")
+            .x_labels(4)
+            .y_labels(5)
+            .x_label_formatter(&|x| format!("{x:.0e}"))
+            .y_label_formatter(&|y| format!("{y:.0e}"))
+            .label_style(("sans-serif", 10))
+            .draw()?;
+        for (i, c) in row.curves.iter().enumerate() {
+            let pts: Vec<(f64, f64)> = c
+                .points
+                .iter()
+                .map(|p| (p.1, p.2))
+                .filter(|p| p.0 > 0.0 && p.1 > 0.0)
+                .collect();
+            chart.draw_series(LineSeries::new(pts.clone(), COLORS[i].stroke_width(2)))?;
+            chart.draw_series(pts.iter().map(|&p| Circle::new(p, 2, COLORS[i].filled())))?;
+        }
+    }
+    root.present()?;
+    Ok(())
+}
+
+fn main() {
+    let reps: u64 = arg("--reps", 32);
+    let max_log2: u32 = arg("--max-log2", 18);
+    let budget = arg("--budget-ms", 4.0f64) * 1e-3;
+    let started = Instant::now();
+
+    let mut md = String::new();
+    writeln!(
+        md,
+        "<!-- generated by `cargo bench --bench time_vs_error -- --reps {reps} --max-log2 {max_log2}`; do not edit -->\n"
+    )
+    .unwrap();
+    writeln!(
+        md,
+        "### MATH.md §6 re-measured (4·10⁵ samples each, σs = 0.2, s = 1, HG; MATH's value in parentheses)\n"
+    )
+    .unwrap();
+    math_table(&mut md);
+
+    let mut rows = Vec::new();
+    for spec in PHASES {
+        for tau in TAUS {
+            let row = measure(spec, tau, reps, max_log2);
+            eprintln!(
+                "{spec:>22} tau {tau:>3}: reference {:.6e}, eff {:?} ({:.0} s)",
+                row.reference,
+                row.curves
+                    .iter()
+                    .map(|c| c.efficiency())
+                    .collect::<Vec<_>>(),
+                started.elapsed().as_secs_f64()
+            );
+            rows.push(row);
+        }
+    }
+
+    writeln!(
+        md,
+        "\n### relMSE at equal time ({} ms of one core's CPU time)\n\n\
+         Read off each technique's measured relMSE-against-time curve ({reps} independent runs per N, \
+         N = 2^{MIN_LOG2} … 2^{max_log2}, log-log interpolation). ns/sample is the CPU time per sample at the largest N.\n",
+        budget * 1e3
+    )
+    .unwrap();
+    writeln!(
+        md,
+        "| phase | σt·s | reference I | omnee | equiangular | distance | mis | mis-full | ns/sample omnee / eq. / dist. / mis / mis-full |\n|---|---|---|---|---|---|---|---|---|"
+    )
+    .unwrap();
+    let mut eff_md = String::new();
+    writeln!(
+        eff_md,
+        "\n### Efficiency 1/(relMSE·time), relative\n\n\
+         Efficiency is the median over N = 2^{EFF_LOG2} … 2^{max_log2} of 1/(relMSE·CPU seconds). \
+         `÷ eq.`: relative to equiangular; `÷ best single`: relative to the best of omnee, equiangular, distance \
+         other than itself.\n\n\
+         | phase | σt·s | omnee ÷ eq. | omnee ÷ best other single | distance ÷ eq. | mis ÷ eq. | mis ÷ best single | mis-full ÷ eq. | mis-full ÷ best single |\n|---|---|---|---|---|---|---|---|---|"
+    )
+    .unwrap();
+    let mut json = Vec::new();
+    for row in &rows {
+        let eff: Vec<f64> = row.curves.iter().map(|c| c.efficiency()).collect();
+        let best_single = |i: usize| {
+            SINGLE
+                .iter()
+                .filter(|&&j| j != i)
+                .map(|&j| eff[j])
+                .fold(0.0f64, f64::max)
+        };
+        let ns = |i: usize| {
+            let &(n, t, _) = row.curves[i].points.last().unwrap();
+            t * 1e9 / n as f64
+        };
+        writeln!(
+            md,
+            "| `{}` | {} | {:.5e} | {} | {} | {} | {} | {} | {:.0} / {:.0} / {:.0} / {:.0} / {:.0} |",
+            row.spec,
+            row.tau,
+            row.reference,
+            fmt3(row.curves[0].at_time(budget)),
+            fmt3(row.curves[1].at_time(budget)),
+            fmt3(row.curves[2].at_time(budget)),
+            fmt3(row.curves[3].at_time(budget)),
+            fmt3(row.curves[4].at_time(budget)),
+            ns(0),
+            ns(1),
+            ns(2),
+            ns(3),
+            ns(4),
+        )
+        .unwrap();
+        writeln!(
+            eff_md,
+            "| `{}` | {} | {} | {} | {} | {} | {} | {} | {} |",
+            row.spec,
+            row.tau,
+            fmt3(eff[0] / eff[1]),
+            fmt3(eff[0] / best_single(0)),
+            fmt3(eff[2] / eff[1]),
+            fmt3(eff[3] / eff[1]),
+            fmt3(eff[3] / best_single(3)),
+            fmt3(eff[4] / eff[1]),
+            fmt3(eff[4] / best_single(4)),
+        )
+        .unwrap();
+        let curves: Vec<serde_json::Value> = row
+            .curves
+            .iter()
+            .zip(TECHS)
+            .map(|(c, name)| {
+                serde_json::json!({
+                    "technique": name,
+                    "efficiency": c.efficiency(),
+                    "points": c.points.iter().zip(&c.wall).map(|(&(n, t, r), &w)| serde_json::json!({"n": n, "cpu_seconds": t, "wall_seconds": w, "rel_mse": r})).collect::<Vec<_>>(),
+                })
+            })
+            .collect();
+        json.push(serde_json::json!({
+            "phase": row.spec, "tau": row.tau, "reference": row.reference, "curves": curves,
+        }));
+    }
+    md.push_str(&eff_md);
+    writeln!(
+        md,
+        "\nTotal run time {:.0} s.",
+        started.elapsed().as_secs_f64()
+    )
+    .unwrap();
+
+    let md_path = docs_path("results/point-to-point.md");
+    std::fs::write(&md_path, &md).expect("write markdown");
+    let json_path = docs_path("results/point-to-point.json");
+    std::fs::write(
+        &json_path,
+        serde_json::to_string_pretty(&serde_json::json!({
+            "reps": reps, "max_log2": max_log2, "rows": json
+        }))
+        .unwrap(),
+    )
+    .expect("write json");
+    let svg_path = docs_path("figures/point-to-point.svg");
+    plot(&rows, &svg_path).expect("plot");
+    println!("{md}");
+    eprintln!(
+        "wrote {}, {}, {}",
+        md_path.display(),
+        json_path.display(),
+        svg_path.display()
+    );
+}
