@@ -9,3 +9,4 @@ mod chi2;
 mod harness;
 mod properties;
 mod stability;
+mod unbiased;

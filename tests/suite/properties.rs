@@ -87,10 +87,12 @@ fn ray() -> impl Strategy<Value = Ray> {
 
 impl Ray {
     fn directions(&self) -> Directions<f64> {
-        self.cosine.map_or(Directions::Sphere, |n| Directions::cosine(n).unwrap())
+        self.cosine
+            .map_or(Directions::Sphere, |n| Directions::cosine(n).unwrap())
     }
     fn region(&self) -> Region<f64> {
-        self.slab.map_or(Region::Everywhere, |(lo, hi)| Region::slab(lo, hi).unwrap())
+        self.slab
+            .map_or(Region::Everywhere, |(lo, hi)| Region::slab(lo, hi).unwrap())
     }
 }
 
@@ -124,7 +126,10 @@ fn check_sample<P: PhaseFunction<f64>>(
     weight_is_kernel_over_pdf: bool,
 ) -> Result<(), TestCaseError> {
     let Some(s) = t.sample(u) else { return Ok(()) };
-    prop_assert!(s.x1.is_finite() && s.pdf.is_finite() && s.pdf > 0.0, "{name}: {s:?}");
+    prop_assert!(
+        s.x1.is_finite() && s.pdf.is_finite() && s.pdf > 0.0,
+        "{name}: {s:?}"
+    );
     prop_assert!(s.weight.is_finite() && s.weight >= 0.0, "{name}: {s:?}");
     if s.pdf == f64::MAX {
         return Ok(()); // saturated: the true density overflowed
@@ -135,10 +140,18 @@ fn check_sample<P: PhaseFunction<f64>>(
     let dtheta = 1e-15 * scale * (1.0 / d1 + 1.0 / d2);
     let tol = 1e-6 + spread(phase, d.theta, dtheta);
     let again = t.pdf(s.x1);
-    prop_assert!(close(again, s.pdf, tol), "{name}: pdf(x1) = {again:e}, sample.pdf = {:e} (tol {tol:e})", s.pdf);
+    prop_assert!(
+        close(again, s.pdf, tol),
+        "{name}: pdf(x1) = {again:e}, sample.pdf = {:e} (tol {tol:e})",
+        s.pdf
+    );
     if weight_is_kernel_over_pdf {
         let want = connection.kernel(phase, s.x1) / s.pdf;
-        prop_assert!(close(s.weight, want, tol), "{name}: weight {:e}, kernel/pdf {want:e} (tol {tol:e})", s.weight);
+        prop_assert!(
+            close(s.weight, want, tol),
+            "{name}: weight {:e}, kernel/pdf {want:e} (tol {tol:e})",
+            s.weight
+        );
     }
     Ok(())
 }

@@ -60,7 +60,9 @@ fn exercise<F: Real>(name: &str, t: &dyn Technique<F>, points: &[F::Vec3]) {
                 let u = [a, b, c];
                 if let Some(s) = t.sample(u) {
                     assert!(
-                        s.x1.is_finite() && finite_non_negative(s.pdf) && finite_non_negative(s.weight),
+                        s.x1.is_finite()
+                            && finite_non_negative(s.pdf)
+                            && finite_non_negative(s.weight),
                         "{name}: sample({u:?}) = {s:?}"
                     );
                     let p = t.pdf(s.x1);
@@ -114,13 +116,21 @@ fn extremes_are_finite<F: Real>() {
     for scale in [1e-6, 1e-3, 1.0, 1e3, 1e6] {
         // x0 off the origin, so coordinates carry rounding of their own.
         let x0 = [0.1 * scale, 0.2 * scale, -0.3 * scale];
-        let x2 = [x0[0] + 0.6 * scale, x0[1] - 0.48 * scale, x0[2] + 0.64 * scale];
+        let x2 = [
+            x0[0] + 0.6 * scale,
+            x0[1] - 0.48 * scale,
+            x0[2] + 0.64 * scale,
+        ];
         let points = special_points::<F>(x0, x2, scale);
         for spec in EXTREME_PHASES {
             let phase = spec.build::<F>();
             for theta_max in [1e-6, core::f64::consts::FRAC_PI_2, pi] {
-                let c = Connection::new(v::<F>(x0[0], x0[1], x0[2]), v::<F>(x2[0], x2[1], x2[2]), F::from_f64(theta_max))
-                    .unwrap();
+                let c = Connection::new(
+                    v::<F>(x0[0], x0[1], x0[2]),
+                    v::<F>(x2[0], x2[1], x2[2]),
+                    F::from_f64(theta_max),
+                )
+                .unwrap();
                 let name = format!("s {scale} {spec:?} θmax {theta_max}");
                 let omnee = Omnee::new(c, &*phase);
                 exercise(&format!("omnee {name}"), &omnee, &points);
@@ -130,8 +140,12 @@ fn extremes_are_finite<F: Real>() {
                 let cos = Directions::cosine(v::<F>(0.0, 0.0, 1.0)).unwrap();
                 let di = Distance::new(c, &*phase, cos, slab, F::from_f64(1.0 / scale)).unwrap();
                 exercise(&format!("distance {name}"), &di, &points);
-                let mis = OneSample::new([&omnee as &dyn Technique<F>, &eq, &di], [F::ONE; 3], Heuristic::Power)
-                    .unwrap();
+                let mis = OneSample::new(
+                    [&omnee as &dyn Technique<F>, &eq, &di],
+                    [F::ONE; 3],
+                    Heuristic::Power,
+                )
+                .unwrap();
                 exercise(&format!("one-sample MIS {name}"), &mis, &points);
                 for &x1 in &points {
                     let k = c.kernel(&&*phase, x1);
@@ -158,7 +172,15 @@ fn non_finite_uniforms_never_panic<F: Real>() {
     let omnee = Omnee::new(c, phase);
     let eq = Equiangular::new(c, phase, Directions::Sphere, Region::Everywhere);
     let di = Distance::new(c, phase, Directions::Sphere, Region::Everywhere, F::ONE).unwrap();
-    let bad = [F::from_f64(f64::NAN), F::INFINITY, -F::INFINITY, -F::ONE, F::TWO, F::ONE, F::HALF];
+    let bad = [
+        F::from_f64(f64::NAN),
+        F::INFINITY,
+        -F::INFINITY,
+        -F::ONE,
+        F::TWO,
+        F::ONE,
+        F::HALF,
+    ];
     for t in [&omnee as &dyn Technique<F>, &eq, &di] {
         for &a in &bad {
             for &b in &bad {
@@ -167,7 +189,9 @@ fn non_finite_uniforms_never_panic<F: Real>() {
                     // not come back, but never a non-finite one.
                     if let Some(s) = t.sample([a, b, c]) {
                         assert!(
-                            s.x1.is_finite() && finite_non_negative(s.pdf) && finite_non_negative(s.weight),
+                            s.x1.is_finite()
+                                && finite_non_negative(s.pdf)
+                                && finite_non_negative(s.weight),
                             "sample({:?}) = {s:?}",
                             [a, b, c]
                         );
@@ -194,7 +218,10 @@ fn phase_extremes<F: Real>() {
     for spec in EXTREME_PHASES {
         let p = spec.build::<F>();
         for &t in &thetas {
-            for d in [Deflection::from_theta(F::from_f64(t)), Deflection::from_cos(F::from_f64(t.cos()))] {
+            for d in [
+                Deflection::from_theta(F::from_f64(t)),
+                Deflection::from_cos(F::from_f64(t.cos())),
+            ] {
                 let (e, c) = (p.eval(d), p.cdf(d));
                 assert!(finite_non_negative(e), "{spec:?} eval({d:?}) = {e:?}");
                 assert!(c >= F::ZERO && c <= F::ONE, "{spec:?} cdf({d:?}) = {c:?}");
@@ -202,11 +229,17 @@ fn phase_extremes<F: Real>() {
         }
         for u in edge_uniforms::<F>() {
             let d = p.sample(u);
-            assert!(d.is_finite() && d.theta >= F::ZERO && d.theta <= F::PI, "{spec:?} sample({u:?}) = {d:?}");
+            assert!(
+                d.is_finite() && d.theta >= F::ZERO && d.theta <= F::PI,
+                "{spec:?} sample({u:?}) = {d:?}"
+            );
             assert!(finite_non_negative(p.pdf(d)), "{spec:?} pdf(sample({u:?}))");
         }
         let m = p.mean_cosine();
-        assert!(m.is_finite() && m.abs() <= F::ONE, "{spec:?} mean cosine {m:?}");
+        assert!(
+            m.is_finite() && m.abs() <= F::ONE,
+            "{spec:?} mean cosine {m:?}"
+        );
     }
 }
 
@@ -224,7 +257,10 @@ fn invalid_parameters_are_refused_not_panicked_on() {
     assert!(Connection::new(o, o, 1.0f32).is_err());
     assert!(Connection::new(nan, z, 1.0f32).is_err());
     assert!(Connection::new(o, v::<f32>(f64::INFINITY, 0.0, 0.0), 1.0f32).is_err());
-    assert!(Connection::new(o, v::<f32>(3e38, 3e38, 3e38), 1.0f32).is_err(), "s overflows f32");
+    assert!(
+        Connection::new(o, v::<f32>(3e38, 3e38, 3e38), 1.0f32).is_err(),
+        "s overflows f32"
+    );
     for t in [0.0f32, -1.0, 3.2, f32::NAN, f32::INFINITY] {
         assert!(Connection::new(o, z, t).is_err(), "θmax = {t}");
     }
@@ -235,7 +271,10 @@ fn invalid_parameters_are_refused_not_panicked_on() {
     let c = Connection::new(o, z, 1.0f32).unwrap();
     let hg = HenyeyGreenstein::new(0.5f32).unwrap();
     for sigma in [-1.0f32, f32::NAN, f32::INFINITY] {
-        assert!(Distance::new(c, hg, Directions::Sphere, Region::Everywhere, sigma).is_err(), "σ = {sigma}");
+        assert!(
+            Distance::new(c, hg, Directions::Sphere, Region::Everywhere, sigma).is_err(),
+            "σ = {sigma}"
+        );
     }
     assert!(Directions::<f32>::cosine(o).is_err() && Directions::<f32>::cosine(nan).is_err());
     assert!(Region::slab(1.0f32, 1.0).is_err() && Region::slab(1.0f32, 0.0).is_err());
@@ -247,10 +286,24 @@ fn invalid_parameters_are_refused_not_panicked_on() {
 /// the edges, per quantity: (weight, pdf, x1 relative to s + d1 + d2).
 fn f32_f64_differences(spec: PhaseSpec, theta_max: f64, scale: f64) -> (f64, f64, f64) {
     let x0 = [0.3 * scale, -0.1 * scale, 0.2 * scale];
-    let x2 = [x0[0] + 0.36 * scale, x0[1] + 0.48 * scale, x0[2] + 0.8 * scale];
+    let x2 = [
+        x0[0] + 0.36 * scale,
+        x0[1] + 0.48 * scale,
+        x0[2] + 0.8 * scale,
+    ];
     let (p32, p64) = (spec.build::<f32>(), spec.rounded_to_f32().build::<f64>());
-    let c32 = Connection::new(v::<f32>(x0[0], x0[1], x0[2]), v::<f32>(x2[0], x2[1], x2[2]), theta_max as f32).unwrap();
-    let c64 = Connection::new(v::<f64>(x0[0], x0[1], x0[2]), v::<f64>(x2[0], x2[1], x2[2]), theta_max).unwrap();
+    let c32 = Connection::new(
+        v::<f32>(x0[0], x0[1], x0[2]),
+        v::<f32>(x2[0], x2[1], x2[2]),
+        theta_max as f32,
+    )
+    .unwrap();
+    let c64 = Connection::new(
+        v::<f64>(x0[0], x0[1], x0[2]),
+        v::<f64>(x2[0], x2[1], x2[2]),
+        theta_max,
+    )
+    .unwrap();
     // The same points, rounded to f32, in both precisions: both see one geometry.
     let c64 = Connection::new(
         omnee::real::cast_vec::<f32, f64>(c32.axis.x0),
@@ -274,7 +327,8 @@ fn f32_f64_differences(spec: PhaseSpec, theta_max: f64, scale: f64) -> (f64, f64
                 let u64 = u32.map(f64::from);
                 let (Some(a), Some(b)) = (o32.sample(u32), o64.sample(u64)) else {
                     assert!(
-                        o32.sample(u32).is_none() == o64.sample(u64).is_none() || theta_max < core::f64::consts::PI,
+                        o32.sample(u32).is_none() == o64.sample(u64).is_none()
+                            || theta_max < core::f64::consts::PI,
                         "f32 and f64 disagree on whether {u32:?} gives a sample"
                     );
                     continue;
@@ -320,8 +374,13 @@ fn f32_agrees_with_f64() {
         for theta_max in [core::f64::consts::FRAC_PI_2, 3.0] {
             for scale in [1e-3, 1.0, 1e3] {
                 let (w, p, x) = f32_f64_differences(spec, theta_max, scale);
-                println!("f32 vs f64 {spec:?} θmax {theta_max} s {scale}: weight {w:.1e}, pdf {p:.1e}, x1/s {x:.1e}");
-                assert!(w < 5e-6 && p < 1e-5 && x < 1e-6, "{spec:?} θmax {theta_max} s {scale}: {w:e} {p:e} {x:e}");
+                println!(
+                    "f32 vs f64 {spec:?} θmax {theta_max} s {scale}: weight {w:.1e}, pdf {p:.1e}, x1/s {x:.1e}"
+                );
+                assert!(
+                    w < 5e-6 && p < 1e-5 && x < 1e-6,
+                    "{spec:?} θmax {theta_max} s {scale}: {w:e} {p:e} {x:e}"
+                );
             }
         }
     }
