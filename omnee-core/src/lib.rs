@@ -85,6 +85,9 @@
 #![no_std]
 #![forbid(unsafe_code)]
 
+#[cfg(test)]
+extern crate std;
+
 pub mod circumcircle;
 pub mod error;
 pub mod medium;

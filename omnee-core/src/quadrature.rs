@@ -91,6 +91,11 @@ pub fn integrate<G: FnMut(f64) -> f64>(
 /// `[a, a + w], [a + w, a + 2w], [a + 2w, a + 4w], …` with `w = (b − a)·2^{−levels}`,
 /// each integrated by [`integrate`]. For integrands with a narrow feature at `a`
 /// (a forward-peaked phase function at θ = 0), whose width can be 10⁻⁴ of the range.
+///
+/// The tolerance is relative to the whole integral: a first pass estimates it
+/// panel by panel, and every panel then gets the absolute tolerance
+/// `rel_tol · |total| / panels`, so panels whose values are negligible (or
+/// subnormal) are not refined for their own sake.
 pub fn integrate_geometric<G: FnMut(f64) -> f64>(
     mut f: G,
     a: f64,
@@ -98,17 +103,32 @@ pub fn integrate_geometric<G: FnMut(f64) -> f64>(
     levels: u32,
     rel_tol: f64,
 ) -> f64 {
+    let mut panels = [(0.0, 0.0); 64];
+    let mut count = 0;
     let mut width = (b - a) / (1u64 << levels.min(62)) as f64;
     let mut lo = a;
-    let mut total = integrate(&mut f, lo, lo + width, rel_tol, 0.0);
-    lo += width;
-    while lo < b {
-        let hi = (lo + width).min(b);
-        total += integrate(&mut f, lo, hi, rel_tol, 0.0);
+    while lo < b && count < panels.len() {
+        let hi = if count + 1 == panels.len() {
+            b
+        } else {
+            (lo + width).min(b)
+        };
+        panels[count] = (lo, hi);
+        count += 1;
         lo = hi;
-        width *= 2.0;
+        if count > 1 {
+            width *= 2.0;
+        }
     }
-    total
+    let coarse: f64 = panels[..count]
+        .iter()
+        .map(|&(lo, hi)| gauss_kronrod(&mut f, lo, hi).0.abs())
+        .sum();
+    let abs_tol = rel_tol * coarse / count as f64;
+    panels[..count]
+        .iter()
+        .map(|&(lo, hi)| integrate(&mut f, lo, hi, rel_tol, abs_tol))
+        .sum()
 }
 
 #[cfg(test)]

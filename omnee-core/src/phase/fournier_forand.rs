@@ -150,7 +150,7 @@ impl<F: Real> FournierForand<F> {
     /// `P(Θ > θ) = −(y/2) φ(δ) − (K/8) μ x y` in f64.
     fn ccdf64(&self, x: f64, y: f64) -> f64 {
         let mu = if x <= 1.0 { 1.0 - x } else { y - 1.0 };
-        (-0.5 * y * self.phi(self.delta90 * x) - 0.125 * self.k * mu * x * y).clamp(0.0, 1.0)
+        (-0.5 * y * self.phi(self.delta90 * x) - 0.125 * self.k * mu * x * y).clamp_to(0.0, 1.0)
     }
 
     /// `P(Θ ≤ θ)` in f64: `[δ^{−ν}(1 − s) + s − δ]/(1 − δ) + (K/8) μ x y` for
@@ -162,7 +162,7 @@ impl<F: Real> FournierForand<F> {
             let s = 0.5 * x;
             let da = libm::exp(self.a * libm::log(delta));
             ((da * (1.0 - s) + s - delta) / (1.0 - delta) + 0.125 * self.k * mu * x * y)
-                .clamp(0.0, 1.0)
+                .clamp_to(0.0, 1.0)
         } else {
             1.0 - self.ccdf64(x, y)
         }

@@ -1,6 +1,8 @@
 //! Safeguarded Newton inversion of a CDF in f64, shared by the phase
 //! functions without (or with only an approximate) closed-form inverse.
 
+use crate::real::Real;
+
 /// Iteration cap; bisection alone would reach 2⁻²⁰⁰ of the bracket.
 const MAX_ITER: usize = 200;
 
@@ -71,7 +73,7 @@ fn solve(f: impl Fn(f64) -> f64, df: impl Fn(f64) -> f64, target: f64, guess: f6
             next = if lo == 0.0 {
                 // Descend fast towards a power-law peak at 0: by 1/16, then by
                 // squaring, at most 60 decades per step, into the subnormals.
-                (hi * hi.clamp(1e-60, 0.0625)).max(f64::from_bits(1))
+                (hi * hi.clamp_to(1e-60, 0.0625)).max(f64::from_bits(1))
             } else if hi > 4.0 * lo {
                 libm::sqrt(lo * hi)
             } else {
@@ -79,7 +81,7 @@ fn solve(f: impl Fn(f64) -> f64, df: impl Fn(f64) -> f64, target: f64, guess: f6
             };
         }
         if (next - t).abs() <= 4.0 * f64::EPSILON * next || !(next > lo && next < hi) {
-            return next.clamp(lo, hi);
+            return next.clamp_to(lo, hi);
         }
         t = next;
     }

@@ -181,7 +181,7 @@ impl<F: Real> PhaseFunction<F> for Tabulated<'_, F> {
         let n = self.values.len();
         let k = self.cdf[1..n].partition_point(|&c| c <= u);
         let (c0, c1) = (self.cdf[k].to_f64(), self.cdf[k + 1].to_f64());
-        let u = u.to_f64().clamp(c0, c1);
+        let u = u.to_f64().clamp_to(c0, c1);
         let width = c1 - c0;
         let (t, s) = if width > 0.0 {
             ((u - c0) / width, (c1 - u) / width)
@@ -199,8 +199,8 @@ impl<F: Real> PhaseFunction<F> for Tabulated<'_, F> {
     fn cdf(&self, d: Deflection<F>) -> F {
         let k = self.bin_of(d.theta);
         let (t0, t1) = (edge(self.theta, k), edge(self.theta, k + 1));
-        let t = d.theta.to_f64().clamp(t0, t1);
-        let frac = (versine_step(t0, t) / bin_width(self.theta, k)).clamp(0.0, 1.0);
+        let t = d.theta.to_f64().clamp_to(t0, t1);
+        let frac = (versine_step(t0, t) / bin_width(self.theta, k)).clamp_to(0.0, 1.0);
         let (c0, c1) = (self.cdf[k].to_f64(), self.cdf[k + 1].to_f64());
         F::from_f64(c0 + (c1 - c0) * frac)
     }

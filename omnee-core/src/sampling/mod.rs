@@ -158,6 +158,4 @@ pub(crate) fn saturate<F: Real>(x: F) -> F {
 }
 
 #[cfg(test)]
-extern crate std;
-#[cfg(test)]
 mod tests;
