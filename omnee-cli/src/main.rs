@@ -193,13 +193,13 @@ struct ProblemArgs {
     #[arg(long, default_value = "iso")]
     phase: String,
     /// Scattering coefficient (1/m).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     sigma_s: f64,
     /// Extinction coefficient (1/m), at least sigma-s.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     sigma_t: f64,
     /// The integrand is restricted to theta < THETA_MAX (radians, (0, pi]).
-    #[arg(long, default_value_t = std::f64::consts::PI)]
+    #[arg(long, allow_hyphen_values = true, default_value_t = std::f64::consts::PI)]
     theta_max: f64,
     /// A receiver cosine max(0, n . (x1 - x2)/d2) about this normal.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]

@@ -126,6 +126,16 @@ pub fn probe(a: ProbeArgs) -> Result<()> {
             ),
         ));
     }
+    if a.point[2] < scene.floor.z {
+        return Err(CliError::range(
+            "--point",
+            format!("{},{},{}", a.point[0], a.point[1], a.point[2]),
+            format!(
+                "z >= floor.z = {} (on or above the opaque floor)",
+                scene.floor.z
+            ),
+        ));
+    }
     let mut storage = TableStorage::<f32>::default();
     let world = World::new(&scene, scene.medium.phase.instantiate::<f32>(&mut storage)?);
     let g = world.phase.mean_cosine() as f64;

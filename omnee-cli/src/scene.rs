@@ -97,10 +97,18 @@ impl fmt::Display for Range {
         write!(
             f,
             "{}{}, {}{}",
-            if self.lo_open || self.lo.is_infinite() { '(' } else { '[' },
+            if self.lo_open || self.lo.is_infinite() {
+                '('
+            } else {
+                '['
+            },
             end(self.lo),
             end(self.hi),
-            if self.hi_open || self.hi.is_infinite() { ')' } else { ']' }
+            if self.hi_open || self.hi.is_infinite() {
+                ')'
+            } else {
+                ']'
+            }
         )
     }
 }
