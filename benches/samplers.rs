@@ -20,12 +20,18 @@
 //!   (`Connection::new` for a moving `x0`, then OMNEE sample + pdf), the cost a
 //!   renderer pays when every camera vertex connects to a new light point.
 //!
+//! Time is the benchmark thread's CPU time (`CLOCK_THREAD_CPUTIME_ID`, the
+//! [`CpuTime`] measurement below), not wall time: the machine is shared, and
+//! a descheduled thread would otherwise be charged for other processes.
+//!
 //! Run: `cargo bench --bench samplers` (about 5 minutes; every benchmark has
 //! 1 s warm-up, 2 s measurement and 30 samples, set below). A filter narrows
 //! it, e.g. `cargo bench --bench samplers -- 'technique/f32/.*/hg'`.
 //! `benches/summarize.py` turns criterion's estimates into the ns/sample
 //! table of `docs/benchmarks.md`.
 
+use cpu_time::ThreadTime;
+use criterion::measurement::{Measurement, ValueFormatter};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use omnee::medium::Region;
 use omnee::mis::{Heuristic, OneSample};
@@ -36,6 +42,68 @@ use omnee::sampling::{Connection, Directions, Distance, Equiangular, Omnee, Tech
 use omnee::{Real, Vector};
 use std::hint::black_box;
 use std::time::Duration;
+
+/// Criterion measurement: the CPU time of the benchmark thread, in ns.
+struct CpuTime;
+
+impl Measurement for CpuTime {
+    type Intermediate = ThreadTime;
+    type Value = Duration;
+    fn start(&self) -> ThreadTime {
+        ThreadTime::now()
+    }
+    fn end(&self, i: ThreadTime) -> Duration {
+        i.elapsed()
+    }
+    fn add(&self, v1: &Duration, v2: &Duration) -> Duration {
+        *v1 + *v2
+    }
+    fn zero(&self) -> Duration {
+        Duration::ZERO
+    }
+    fn to_f64(&self, value: &Duration) -> f64 {
+        value.as_nanos() as f64
+    }
+    fn formatter(&self) -> &dyn ValueFormatter {
+        &CpuFormatter
+    }
+}
+
+/// Formats CPU nanoseconds as ns/µs/ms and throughput as elements per
+/// CPU second.
+struct CpuFormatter;
+
+impl ValueFormatter for CpuFormatter {
+    fn scale_values(&self, ns: f64, values: &mut [f64]) -> &'static str {
+        let (factor, unit) = if ns < 1e3 {
+            (1.0, "ns (CPU)")
+        } else if ns < 1e6 {
+            (1e-3, "µs (CPU)")
+        } else {
+            (1e-6, "ms (CPU)")
+        };
+        values.iter_mut().for_each(|v| *v *= factor);
+        unit
+    }
+    fn scale_throughputs(
+        &self,
+        typical: f64,
+        throughput: &Throughput,
+        values: &mut [f64],
+    ) -> &'static str {
+        let n = match *throughput {
+            Throughput::Elements(n) => n as f64,
+            _ => 1.0,
+        };
+        // Per second of CPU, in millions.
+        let _ = typical;
+        values.iter_mut().for_each(|v| *v = n * 1e3 / *v);
+        "Melem/s (CPU)"
+    }
+    fn scale_for_machines(&self, _values: &mut [f64]) -> &'static str {
+        "ns"
+    }
+}
 
 /// Samples per criterion iteration.
 const BATCH: usize = 256;
@@ -70,7 +138,7 @@ fn run<F: Real, T: Technique<F> + ?Sized>(t: &T, us: &[[F; 3]]) -> F {
 
 /// Every technique with one phase function.
 fn techniques<F: Real, P: PhaseFunction<F> + Copy>(
-    c: &mut Criterion,
+    c: &mut Criterion<CpuTime>,
     precision: &str,
     name: &str,
     phase: P,
@@ -126,7 +194,7 @@ fn techniques<F: Real, P: PhaseFunction<F> + Copy>(
 }
 
 /// A new connection per sample: `Connection::new` + OMNEE sample + pdf.
-fn connection<F: Real>(c: &mut Criterion, precision: &str) {
+fn connection<F: Real>(c: &mut Criterion<CpuTime>, precision: &str) {
     let us = uniforms::<F>();
     let hg = HenyeyGreenstein::new(F::from_f64(0.9)).unwrap();
     let x2 = F::Vec3::new(F::ZERO, F::ZERO, F::ZERO);
@@ -151,7 +219,7 @@ fn connection<F: Real>(c: &mut Criterion, precision: &str) {
     group.finish();
 }
 
-fn all<F: Real>(c: &mut Criterion, precision: &str) {
+fn all<F: Real>(c: &mut Criterion<CpuTime>, precision: &str) {
     let f = F::from_f64;
     techniques::<F, _>(c, precision, "iso", Isotropic);
     for g in [0.0, 0.9, 0.98] {
@@ -176,7 +244,7 @@ fn all<F: Real>(c: &mut Criterion, precision: &str) {
     connection::<F>(c, precision);
 }
 
-fn benches(c: &mut Criterion) {
+fn benches(c: &mut Criterion<CpuTime>) {
     all::<f32>(c, "f32");
     all::<f64>(c, "f64");
 }
@@ -184,6 +252,7 @@ fn benches(c: &mut Criterion) {
 criterion_group! {
     name = samplers;
     config = Criterion::default()
+        .with_measurement(CpuTime)
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(2))
         .sample_size(30);
