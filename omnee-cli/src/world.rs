@@ -824,16 +824,22 @@ mod tests {
         assert!((below - 10_000i32).abs() < 424, "{below}");
     }
 
-    #[test]
-    fn the_view_estimator_matches_a_quadrature_of_the_in_scattered_fluence() {
-        // Isotropic scattering, negligible attenuation (σt = σs = 1e-3): the
-        // radiance scattered towards the eye is σs/(4π) ∫ L Ω(x(t)) dt, with
-        // Ω = 2π(1 − √(1 − r²/d²)) the solid angle of the sphere from x.
+    /// The view estimator's mean and standard error over `n` samples for a
+    /// ray from above the slab passing beside the light, and the quadrature
+    /// `σs/(4π) ∫ Φ(x(t)) dt` over the slab part of the ray, for isotropic
+    /// scattering with negligible attenuation (σt = σs = 1e-3), where `Φ` is
+    /// the fluence `L·2π(1 − √(1 − r²/d²))` of a sphere or `I/d²` of a point.
+    fn view_against_quadrature(
+        radius_line: &str,
+        emission_line: &str,
+        point: bool,
+    ) -> (f64, f64, f64) {
         let text = crate::scene::DEFAULT_SCENE
             .replace("sigma_s = 0.5 ", "sigma_s = 0.001 ")
             .replace("sigma_a = 0.05 ", "sigma_a = 0.0 ")
             .replace("phase = \"hg:0.98\"", "phase = \"iso\"")
-            .replace("radius = 0.01 ", "radius = 0.05 ");
+            .replace("radius = 0.01 ", radius_line)
+            .replace("radiance = 10000.0 ", emission_line);
         // No occluder: every point of the ray sees the whole visible cap.
         let (cut, end) = (
             text.find("[occluder]").unwrap(),
@@ -846,7 +852,7 @@ mod tests {
             &scene,
             scene.medium.phase.instantiate::<f32>(&mut storage).unwrap(),
         );
-        let c = world.light.center.as_dvec3();
+        let (c, r) = (world.light.center.as_dvec3(), world.light.radius as f64);
         // A ray from above the slab passing 2 cm beside the sphere, ending
         // on the floor.
         let o = Vec3::new(0.07, 0.0, 2.0);
@@ -863,27 +869,40 @@ mod tests {
         }
         let mean = sum / n as f64;
         let se = ((sum2 / n as f64 - mean * mean) / n as f64).sqrt();
-        // Quadrature over the part of the ray inside the slab (z in [0, 1]).
         let (od, dd) = (o.as_dvec3(), d.as_dvec3());
         let (t0, t1) = ((1.0 - od.z) / dd.z, (0.0 - od.z) / dd.z);
         let m = 200_000;
         let h = (t1 - t0) / m as f64;
-        let r = 0.05f64;
         let mut q = 0.0;
         for i in 0..m {
             let x = od + dd * (t0 + (i as f64 + 0.5) * h);
             let dist = (x - c).length();
-            let omega = std::f64::consts::TAU * (1.0 - (1.0 - (r / dist).powi(2)).max(0.0).sqrt());
-            q += omega * h;
+            q += h * if point {
+                world.light.intensity as f64 / (dist * dist)
+            } else {
+                world.light.radiance as f64
+                    * std::f64::consts::TAU
+                    * (1.0 - (1.0 - (r / dist).powi(2)).max(0.0).sqrt())
+            };
         }
-        let want = 1e-3 / (4.0 * std::f64::consts::PI) * 10000.0 * q;
-        // Transmittance over ≤ 3 m at σt = 1e-3 lowers the truth by < 0.3 %;
-        // allow that plus 5 standard errors (normal tail 5.7e-7).
-        assert!(
-            mean <= want * 1.0001 + 5.0 * se && mean >= want * 0.997 - 5.0 * se,
-            "{mean} ± {se} vs {want}"
-        );
-        assert!(se < 0.01 * mean);
+        (mean, se, 1e-3 / (4.0 * std::f64::consts::PI) * q)
+    }
+
+    #[test]
+    fn the_view_estimator_matches_a_quadrature_of_the_in_scattered_fluence() {
+        for (radius, emission, point) in [
+            ("radius = 0.05 ", "radiance = 10000.0 ", false),
+            ("radius = 0.0 ", "intensity = 3.0 ", true),
+        ] {
+            let (mean, se, want) = view_against_quadrature(radius, emission, point);
+            // Transmittance over ≤ 3 m at σt = 1e-3 lowers the truth by
+            // < 0.3 %; allow that plus 5 standard errors (normal tail 5.7e-7).
+            assert!(
+                mean <= want * 1.0001 + 5.0 * se && mean >= want * 0.997 - 5.0 * se,
+                "{radius}: {mean} ± {se} vs {want}"
+            );
+            assert!(se < 0.01 * mean, "{radius}");
+        }
     }
 
     #[test]

@@ -635,6 +635,77 @@ fn probe_once_more_matches_the_point_to_point_quadrature_in_a_deep_slab() {
 }
 
 #[test]
+fn probe_once_more_of_a_small_sphere_matches_the_point_light_quadrature() {
+    // A sphere of radius 1 cm and intensity 1 W/sr in an (effectively)
+    // infinite medium with σt = 0.61 /m: its once-more irradiance differs from
+    // the point light's at the centre by O(σt r) < 1 % (path lengths from the
+    // surface instead of the centre), while a wrong area density of the
+    // light point x0 (the cone/uniform mixture) would be off by a factor.
+    let dir = tempfile::tempdir().unwrap();
+    scene_with(dir.path(), "sphere.toml", |t| {
+        let t = replace_line(&t, "sigma_s =", "sigma_s = 0.6");
+        let t = replace_line(&t, "sigma_a =", "sigma_a = 0.01");
+        let t = replace_line(&t, "phase =", "phase = \"hg:0.7\"");
+        let t = replace_line(&t, "z_min =", "z_min = -1000.0");
+        let t = replace_line(&t, "z_max =", "z_max = 1000.0");
+        let t = replace_line(&t, "z = 0.0", "z = -999.0");
+        let t = replace_line(&t, "radius =", "radius = 0.01");
+        let t = replace_line(
+            &t,
+            "radiance =",
+            &format!("radiance = {}", 1.0 / (std::f64::consts::PI * 1e-4)),
+        );
+        let cut = t.find("[occluder]").unwrap();
+        let end = t.find("[camera]").unwrap();
+        format!("{}{}", &t[..cut], &t[end..])
+    });
+    let v = probe(
+        dir.path(),
+        "sphere.toml",
+        &[
+            "--point",
+            "0.4,0,0",
+            "--terms",
+            "once-more",
+            "--samples",
+            "400000",
+            "--technique",
+            "omnee",
+        ],
+    );
+    let e = json(&run_in(
+        dir.path(),
+        &[
+            "estimate",
+            "--x0",
+            "0,0,0.95",
+            "--x2",
+            "0.4,0,0",
+            "--receiver-normal",
+            "0,0,1",
+            "--phase",
+            "hg:0.7",
+            "--sigma-s",
+            "0.6",
+            "--sigma-t",
+            "0.61",
+            "--samples",
+            "1000",
+            "--reference",
+            "--json",
+        ],
+    ));
+    let want = e["reference"].as_f64().unwrap();
+    let t = &v["terms"]["once-more"];
+    let (m, se) = (t["mean"].as_f64().unwrap(), t["stderr"].as_f64().unwrap());
+    // 1 % for the sphere's size plus 5 standard errors (normal tail 5.7e-7).
+    assert!(
+        (m - want).abs() < 0.01 * want + 5.0 * se,
+        "{m} ± {se} vs {want}"
+    );
+}
+
+#[test]
 fn probe_rejects_bad_points_and_terms() {
     let dir = tempfile::tempdir().unwrap();
     for (args, needle) in [
