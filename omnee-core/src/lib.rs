@@ -18,7 +18,7 @@
 //! - [`sampling`]: OMNEE and its baselines, equiangular and distance sampling;
 //! - [`mis`]: multiple importance sampling over any set of techniques;
 //! - [`medium`]: homogeneous coefficients and the region the medium fills;
-//! - [`reference`]: the point-to-point test problem and its quadrature value;
+//! - [`reference`](mod@reference): the point-to-point test problem and its quadrature value;
 //! - [`quadrature`]: the f64 adaptive Gauss–Kronrod rule behind it;
 //! - [`error`]: the error every constructor returns for invalid input.
 //!
