@@ -66,8 +66,8 @@ impl<F: Real> PhaseFunction<F> for HenyeyGreenstein<F> {
             (F::ONE + g) - F::TWO * g * u
         };
         let q = (F::ONE - g) * (F::ONE + g) / k;
-        let one_minus_cos = (F::ONE - g) * u * (q + F::ONE - g) / k;
-        let one_plus_cos = (F::ONE + g) * (F::ONE - u) * (q + F::ONE + g) / k;
+        let one_minus_cos = (F::ONE - g) * u * (q + (F::ONE - g)) / k;
+        let one_plus_cos = (F::ONE + g) * (F::ONE - u) * (q + (F::ONE + g)) / k;
         Deflection::from_versines(one_minus_cos, one_plus_cos)
     }
 
