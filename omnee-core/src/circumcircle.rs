@@ -16,7 +16,8 @@
 //! `d2 = s sin α / sin θ = s (α/θ) sinc α / sinc θ`.
 
 use crate::error::Error;
-use crate::real::{Real, Vector, sinc};
+use crate::phase::Deflection;
+use crate::real::{Real, Vector, sinc_with_sin};
 
 /// The fixed end points `x0` (light side) and `x2` (receiver side) with the
 /// orthonormal frame `(b1, b2, e)` about the axis `e = (x2 − x0)/s`.
@@ -99,11 +100,19 @@ impl<F: Real> Axis<F> {
     /// (`x1` at infinity) or non-finite input.
     #[inline]
     pub fn point(&self, angles: Angles<F>) -> Option<F::Vec3> {
-        let (d1, _) = side_lengths(self.s, angles)?;
-        let (sin_alpha, cos_alpha) = angles.alpha().sin_cos();
-        let (sin_phi, cos_phi) = angles.phi.sin_cos();
+        let triangle = Triangle::from_angles(self.s, angles)?;
+        self.place(&triangle, angles.phi)
+    }
+
+    /// The apex `x1 = x0 + d1 cos α · e + d1 sin α · (cos φ b1 + sin φ b2)` of a
+    /// solved triangle turned by φ about the axis; `None` if it is not finite.
+    #[inline]
+    pub fn place(&self, triangle: &Triangle<F>, phi: F) -> Option<F::Vec3> {
+        let (sin_phi, cos_phi) = phi.sin_cos();
         let radial = self.b1 * cos_phi + self.b2 * sin_phi;
-        let x1 = self.x0 + (self.e * cos_alpha + radial * sin_alpha) * d1;
+        let x1 = self.x0
+            + self.e * (triangle.d1 * triangle.cos_alpha)
+            + radial * (triangle.d1 * triangle.sin_alpha);
         x1.is_finite().then_some(x1)
     }
 
@@ -148,26 +157,106 @@ impl<F: Real> Axis<F> {
     }
 }
 
+/// The triangle `x0 x1 x2` with base `s`, deflection θ at `x1` and `β = (β/θ) θ`
+/// at `x2`, solved once: what both the point and its density need.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Triangle<F> {
+    /// `d1 = |x1 − x0| = s sin β / sin θ`.
+    pub d1: F,
+    /// `d2 = |x2 − x1| = s sin α / sin θ`.
+    pub d2: F,
+    /// `sinc θ = sin θ / θ` (1 at θ = 0): the OMNEE weight is `1 / (s sinc θ)`.
+    pub sinc_theta: F,
+    /// sin α, α the angle at `x0`.
+    pub sin_alpha: F,
+    /// cos α.
+    pub cos_alpha: F,
+}
+
+impl<F: Real> Triangle<F> {
+    /// [`solve`](Self::solve) for plain angles, θ ∈ [0, π) (its versines from θ).
+    #[inline]
+    pub fn from_angles(s: F, angles: Angles<F>) -> Option<Self> {
+        if !(angles.theta >= F::ZERO && angles.theta < F::PI) {
+            return None;
+        }
+        Self::solve(s, Deflection::from_theta(angles.theta), angles.beta_ratio)
+    }
+
+    /// Solves the triangle by the law of sines (MATH.md §2, §4):
+    ///
+    /// - θ ≤ π/2: `d1 = s (β/θ) sinc β / sinc θ`, `d2 = s (α/θ) sinc α / sinc θ`,
+    ///   exact at θ = 0 (`d1 = (β/θ) s`);
+    /// - θ > π/2: `d1 = s sin β / sin θ`, `d2 = s sin α / sin θ`, with
+    ///   `sin θ = √((1 − cos θ)(1 + cos θ))` from the deflection's versines,
+    ///   and the sine of whichever of α, β exceeds π/2 taken from the other
+    ///   angle `x` by `sin(θ − x) = sin θ cos x + |cos θ| sin x` (two
+    ///   non-negative terms). Near θ = π the rounded θ has lost the digits of
+    ///   π − θ; these forms never use them.
+    ///
+    /// `None` for θ ≥ π (the triangle does not close), `β/θ ∉ [0, 1]` or
+    /// non-finite input.
+    #[inline]
+    pub fn solve(s: F, deflection: Deflection<F>, beta_ratio: F) -> Option<Self> {
+        let Deflection {
+            theta,
+            one_plus_cos,
+            ..
+        } = deflection;
+        if !(theta >= F::ZERO
+            && theta < F::PI
+            && one_plus_cos > F::ZERO
+            && (F::ZERO..=F::ONE).contains(&beta_ratio))
+        {
+            return None;
+        }
+        let (beta, alpha) = (beta_ratio * theta, (F::ONE - beta_ratio) * theta);
+        let (sin_alpha, cos_alpha) = alpha.sin_cos();
+        let sin_theta = deflection.sin();
+        let (d1, d2, sinc_theta, sin_alpha) = if one_plus_cos >= F::ONE {
+            let sin_beta = beta.sin();
+            let sinc_theta = sinc_with_sin(theta, sin_theta);
+            let scale = s / sinc_theta;
+            let d1 = scale * beta_ratio * sinc_with_sin(beta, sin_beta);
+            let d2 = scale * (F::ONE - beta_ratio) * sinc_with_sin(alpha, sin_alpha);
+            (d1, d2, sinc_theta, sin_alpha)
+        } else {
+            let (sin_beta, cos_beta) = beta.sin_cos();
+            let minus_cos_theta = F::ONE - one_plus_cos;
+            let sin_beta = if beta > F::FRAC_PI_2 {
+                sin_theta * cos_alpha + minus_cos_theta * sin_alpha
+            } else {
+                sin_beta
+            };
+            let sin_alpha = if alpha > F::FRAC_PI_2 {
+                sin_theta * cos_beta + minus_cos_theta * sin_beta
+            } else {
+                sin_alpha
+            };
+            let scale = s / sin_theta;
+            (
+                scale * sin_beta,
+                scale * sin_alpha,
+                sin_theta / theta,
+                sin_alpha,
+            )
+        };
+        (d1.is_finite() && d2.is_finite() && sinc_theta > F::ZERO).then_some(Self {
+            d1,
+            d2,
+            sinc_theta,
+            sin_alpha,
+            cos_alpha,
+        })
+    }
+}
+
 /// The side lengths `(d1, d2)` of the triangle with base `s` and the given
-/// angles, by the law of sines in `sinc` form (exact at θ = 0):
-/// `d1 = s (β/θ) sinc β / sinc θ`, `d2 = s (1 − β/θ) sinc α / sinc θ`.
-/// `None` for θ ≥ π or non-finite input (the triangle does not close).
+/// angles ([`Triangle::solve`]); `None` for θ ≥ π or non-finite input.
 #[inline]
 pub fn side_lengths<F: Real>(s: F, angles: Angles<F>) -> Option<(F, F)> {
-    let Angles {
-        theta, beta_ratio, ..
-    } = angles;
-    if !(theta >= F::ZERO && theta < F::PI && (F::ZERO..=F::ONE).contains(&beta_ratio)) {
-        return None;
-    }
-    let sinc_theta = sinc(theta);
-    if !(sinc_theta > F::ZERO) {
-        return None;
-    }
-    let scale = s / sinc_theta;
-    let d1 = scale * beta_ratio * sinc(angles.beta());
-    let d2 = scale * (F::ONE - beta_ratio) * sinc(angles.alpha());
-    (d1.is_finite() && d2.is_finite()).then_some((d1, d2))
+    let t = Triangle::from_angles(s, angles)?;
+    Some((t.d1, t.d2))
 }
 
 /// The talk's fractional distance of the foot of `x1` along the axis,
@@ -176,8 +265,8 @@ pub fn side_lengths<F: Real>(s: F, angles: Angles<F>) -> Option<(F, F)> {
 /// `t = P⁻¹(u | θ) = cos(θ − uθ) sin(uθ) / sin θ`. `None` for θ ≥ π.
 #[inline]
 pub fn fractional_distance<F: Real>(angles: Angles<F>) -> Option<F> {
-    let (d1, _) = side_lengths(F::ONE, angles)?;
-    Some(d1 * angles.alpha().cos())
+    let t = Triangle::from_angles(F::ONE, angles)?;
+    Some(t.d1 * t.cos_alpha)
 }
 
 /// The circumradius of the triangle, `R = s / (2 sin θ)` (∞ at θ = 0, where

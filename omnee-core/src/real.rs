@@ -366,13 +366,35 @@ pub fn cast_vec<A: Real, B: Real>(v: A::Vec3) -> B::Vec3 {
 /// so that it is exactly 1 at x = 0 and correctly rounded nearby.
 #[inline]
 pub fn sinc<F: Real>(x: F) -> F {
-    let x2 = x * x;
-    // Below this the next series term x⁶/5040 is under half an ulp.
-    if x2 < F::from_f64(1e-2) * F::EPSILON.sqrt() {
-        F::ONE - x2 * (F::ONE / F::from_f64(6.0) - x2 / F::from_f64(120.0))
+    if sinc_series_is_exact(x) {
+        sinc_series(x)
     } else {
         x.sin() / x
     }
+}
+
+/// [`sinc`] for a caller who already has `sin x`: `sin_x / x`, or the series
+/// where `x` is so small that `sin x / x` could be 0/0 or lose bits to underflow.
+#[inline]
+pub fn sinc_with_sin<F: Real>(x: F, sin_x: F) -> F {
+    if sinc_series_is_exact(x) {
+        sinc_series(x)
+    } else {
+        sin_x / x
+    }
+}
+
+/// Whether the next series term x⁶/5040 is under half an ulp of 1.
+#[inline]
+fn sinc_series_is_exact<F: Real>(x: F) -> bool {
+    x * x < F::from_f64(1e-2) * F::EPSILON.sqrt()
+}
+
+/// `1 − x²/6 + x⁴/120`.
+#[inline]
+fn sinc_series<F: Real>(x: F) -> F {
+    let x2 = x * x;
+    F::ONE - x2 * (F::ONE / F::from_f64(6.0) - x2 / F::from_f64(120.0))
 }
 
 #[cfg(test)]

@@ -2,9 +2,9 @@
 //! (MATH.md §3).
 
 use super::{Connection, Sample, Technique, saturate};
-use crate::circumcircle::{Angles, side_lengths};
+use crate::circumcircle::Triangle;
 use crate::phase::{Deflection, PhaseFunction};
-use crate::real::{Real, Vector, sinc};
+use crate::real::{Real, sinc_with_sin};
 
 /// OMNEE sampling of `x1` for a [`Connection`].
 ///
@@ -36,9 +36,9 @@ impl<F: Real, P: PhaseFunction<F>> Omnee<F, P> {
     /// `pdf = p(θ) sinc θ · s / (d1² d2²)`, evaluated in an order that neither
     /// overflows nor underflows for s from 1e-6 to 1e6 in f32.
     #[inline]
-    fn density(&self, d: Deflection<F>, d1: F, d2: F) -> F {
+    fn density(&self, d: Deflection<F>, sinc_theta: F, d1: F, d2: F) -> F {
         let r = F::ONE / (d1 * d2);
-        saturate(self.phase.pdf(d) * sinc(d.theta) * self.connection.axis.s * r * r)
+        saturate(self.phase.pdf(d) * sinc_theta * self.connection.axis.s * r * r)
     }
 }
 
@@ -52,41 +52,28 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Omnee<F, P> {
         if !(d.theta < self.connection.theta_max) {
             return None;
         }
-        let angles = Angles {
-            theta: d.theta,
-            beta_ratio: u[1],
-            phi: F::TAU * u[2],
-        };
-        let (d1, d2) = side_lengths(axis.s, angles)?;
-        if !(d1 > F::ZERO && d2 > F::ZERO) {
+        let triangle = Triangle::solve(axis.s, d, u[1])?;
+        if !(triangle.d1 > F::ZERO && triangle.d2 > F::ZERO) {
             return None; // x1 on an end point, where the integrand is singular
         }
-        let x1 = axis.point(angles)?;
         Some(Sample {
-            x1,
-            pdf: self.density(d, d1, d2),
-            weight: saturate(F::ONE / (axis.s * sinc(d.theta))),
+            x1: axis.place(&triangle, F::TAU * u[2])?,
+            pdf: self.density(d, triangle.sinc_theta, triangle.d1, triangle.d2),
+            weight: saturate(F::ONE / (axis.s * triangle.sinc_theta)),
         })
     }
 
-    /// `p(θ) sinc θ · s / (d1² d2²)` with θ from [`crate::circumcircle::Axis::angles`];
-    /// 0 for θ ≥ θmax and at the end points.
+    /// `p(θ) sinc θ · s / (d1² d2²)` with θ between `ω1` and `ω2`
+    /// ([`Connection::deflection`]); 0 for θ ≥ θmax and at the end points.
     #[inline]
     fn pdf(&self, x1: F::Vec3) -> F {
-        let axis = &self.connection.axis;
-        let Some(angles) = axis.angles(x1) else {
-            return F::ZERO;
-        };
-        if !(angles.theta < self.connection.theta_max) {
-            return F::ZERO;
+        match self.connection.deflection(x1) {
+            Some((d, d1, d2)) if d.theta < self.connection.theta_max => {
+                self.density(d, sinc_with_sin(d.theta, d.sin()), d1, d2)
+            }
+            _ => F::ZERO,
         }
-        let (d1, d2) = ((x1 - axis.x0).length(), (axis.x2 - x1).length());
-        if !(d1 > F::ZERO && d2 > F::ZERO) {
-            return F::ZERO;
-        }
-        self.density(Deflection::from_theta(angles.theta), d1, d2)
     }
-
     /// `(cdf(θ), β/θ, φ/2π)`; `None` for θ ≥ θmax or a phase function whose
     /// sampler is not invertible (mixtures).
     #[inline]
