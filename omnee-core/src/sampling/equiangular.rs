@@ -32,14 +32,16 @@ pub struct Equiangular<F: Real, P> {
     pub region: Region<F>,
 }
 
-/// The ray `x2 + t ω` restricted to the medium, relative to the foot of `x0`.
+/// The ray `x2 + t ω` restricted to the medium segment `[t_a, t_b]`, relative
+/// to the foot of `x0`.
 #[derive(Clone, Copy, Debug)]
 struct Line<F> {
-    /// Foot of `x0` on the ray, `Δ = (x0 − x2)·ω`.
-    delta: F,
+    /// The segment `[t_a, t_b]` (t_b may be ∞).
+    ta: F,
+    tb: F,
     /// Distance of `x0` from the ray line.
     dist: F,
-    /// Segment ends relative to the foot, `a = t_a − Δ < b = t_b − Δ` (b may be ∞).
+    /// Segment ends relative to the foot `Δ = (x0 − x2)·ω`: `a = t_a − Δ < b = t_b − Δ`.
     a: F,
     b: F,
     /// The angle `θ_b − θ_a` the segment subtends at `x0` (0 when `dist = 0`).
@@ -68,7 +70,8 @@ impl<F: Real> Line<F> {
             return None; // the ray passes through x0: a δ-like density
         };
         (c > F::ZERO && c.is_finite()).then_some(Self {
-            delta,
+            ta,
+            tb,
             dist,
             a,
             b,
@@ -77,44 +80,49 @@ impl<F: Real> Line<F> {
         })
     }
 
-    /// `v = D tan(θ_a + ξ(θ_b − θ_a))` by the tangent addition formula, from
-    /// the nearer end of the angle range so that nothing cancels:
-    /// `v = D (a + D τ) / (D − a τ)`, `τ = tan(ξ(θ_b − θ_a))` for ξ ≤ ½, and
-    /// `v = D (b − D τ') / (D + b τ')`, `τ' = tan((1 − ξ)(θ_b − θ_a))` for
-    /// ξ > ½, which is `v = D / τ'` on an unbounded ray (the f32 position of
-    /// far samples stays accurate). For D = 0, `v = ab / (b + (a − b) ξ)`.
-    fn offset(&self, xi: F) -> F {
+    /// The distance `t` for `ξ`, `v = t − Δ = D tan(θ_a + ξ(θ_b − θ_a))`,
+    /// measured from the nearer end of the segment so that nothing cancels
+    /// (a vertex next to the receiver keeps its digits). By the tangent
+    /// addition formula, with `τ = tan(ξ(θ_b − θ_a))`, `τ' = tan((1 − ξ)(θ_b − θ_a))`:
+    ///
+    /// `t − t_a = τ (D² + a²) / (D − a τ)` for ξ ≤ ½,
+    /// `t_b − t = τ' (D² + b²) / (D + b τ')` for ξ > ½ (`t = Δ + D/τ'` if `t_b = ∞`);
+    ///
+    /// for D = 0, `v = ab / (b + (a − b) ξ)`, i.e. `t − t_a = a (b − a) ξ / (b + (a − b) ξ)`.
+    fn distance(&self, xi: F) -> F {
         let (d, a, b) = (self.dist, self.a, self.b);
-        if d > F::ZERO && self.subtended > F::ZERO {
+        let t = if d > F::ZERO && self.subtended > F::ZERO {
             if xi <= F::HALF {
                 let tau = (xi * self.subtended).tan();
-                d * (a + d * tau) / (d - a * tau)
+                self.ta + tau * (d * d + a * a) / (d - a * tau)
             } else {
                 let tau = ((F::ONE - xi) * self.subtended).tan();
                 if b.is_finite() {
-                    d * (b - d * tau) / (d + b * tau)
+                    self.tb - tau * (d * d + b * b) / (d + b * tau)
                 } else {
-                    d / tau
+                    (self.ta - a) + d / tau
                 }
             }
         } else if b.is_finite() {
-            a * b / (b + (a - b) * xi)
+            self.ta + a * (b - a) * xi / (b + (a - b) * xi)
         } else {
-            a / (F::ONE - xi)
-        }
+            self.ta + a * xi / (F::ONE - xi)
+        };
+        t.clamp_to(self.ta, self.tb)
     }
 
-    /// The inverse of [`offset`](Self::offset):
-    /// `ξ = atan2(D (v − a), D² + a v) / (θ_b − θ_a)`, or `ξ = b (v − a) / (v (b − a))`
-    /// for D = 0.
-    fn invert(&self, v: F) -> F {
+    /// The inverse of [`distance`](Self::distance), with `t − t_a` formed
+    /// directly: `ξ = atan2(D (t − t_a), D² + a v) / (θ_b − θ_a)`, or
+    /// `ξ = b (t − t_a) / (v (b − a))` for D = 0.
+    fn invert(&self, t: F) -> F {
         let (d, a, b) = (self.dist, self.a, self.b);
+        let (from_a, v) = (t - self.ta, t - (self.ta - a));
         let xi = if d > F::ZERO && self.subtended > F::ZERO {
-            (d * (v - a)).atan2(d * d + a * v) / self.subtended
+            (d * from_a).atan2(d * d + a * v) / self.subtended
         } else if b.is_finite() {
-            b * (v - a) / (v * (b - a))
+            b * from_a / (v * (b - a))
         } else {
-            F::ONE - a / v
+            from_a / v
         };
         xi.clamp_to(F::ZERO, F::ONE)
     }
@@ -155,7 +163,7 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Equiangular<F, P> {
         let omega = self.directions.sample([u[0], u[1]]);
         let pdf_omega = self.directions.pdf(omega);
         let line = self.line(omega)?;
-        let t = (line.delta + line.offset(u[2])).clamp_to(line.a + line.delta, line.b + line.delta);
+        let t = line.distance(u[2]);
         if !(t > F::ZERO && t.is_finite() && pdf_omega > F::ZERO) {
             return None;
         }
@@ -186,7 +194,7 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Equiangular<F, P> {
         let Some(line) = self.line(omega) else {
             return F::ZERO;
         };
-        if !(t >= line.a + line.delta && t <= line.b + line.delta) {
+        if !(t >= line.ta && t <= line.tb) {
             return F::ZERO;
         }
         let r = F::ONE / (d1 * t);
@@ -203,6 +211,6 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Equiangular<F, P> {
         let omega = to_x1 * (F::ONE / t);
         let [u0, u1] = self.directions.invert(omega)?;
         let line = self.line(omega)?;
-        Some([u0, u1, line.invert(t - line.delta)])
+        Some([u0, u1, line.invert(t)])
     }
 }
