@@ -143,13 +143,24 @@ impl<F: Real, const N: usize> Technique<F> for OneSample<'_, F, N> {
         }
         let u0 = ((u[0] - lo) / c).clamp_to(F::ZERO, F::ONE_MINUS_EPSILON);
         let s = self.techniques[chosen].sample([u0, u[1], u[2]])?;
-        let others = (0..N)
-            .filter(|&j| j != chosen)
-            .map(|j| self.probabilities[j] * self.techniques[j].pdf(s.x1));
-        let w = self.heuristic.weight(c * s.pdf, others);
+        // Every other technique's c_j p_j(x1), evaluated once for both the
+        // weight and the mixture density (the own density is the sample's).
+        let mut others = [F::ZERO; N];
+        for (j, other) in others.iter_mut().enumerate() {
+            if j != chosen && self.probabilities[j] > F::ZERO {
+                *other = self.probabilities[j] * self.techniques[j].pdf(s.x1);
+            }
+        }
+        others[chosen] = F::ZERO;
+        let own = c * s.pdf;
+        let w = self.heuristic.weight(own, others);
+        let mut mixture = own;
+        for other in others {
+            mixture += other;
+        }
         Some(Sample {
             x1: s.x1,
-            pdf: self.pdf(s.x1),
+            pdf: saturate(mixture),
             weight: saturate(w * s.weight / c),
         })
     }
