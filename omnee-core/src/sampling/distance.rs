@@ -101,7 +101,7 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Distance<F, P> {
         }
         let x1 = axis.x2 + omega * t;
         let pdf_t = self.density(x, length);
-        let (d, d1, _) = self.connection.deflection(x1)?;
+        let (d, d1) = self.connection.deflection_along(omega, t)?;
         let weight = if d.theta < self.connection.theta_max {
             saturate(self.phase.eval(d) / (d1 * d1 * pdf_omega * pdf_t))
         } else {

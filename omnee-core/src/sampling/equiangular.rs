@@ -168,8 +168,8 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Equiangular<F, P> {
             return None;
         }
         let x1 = axis.x2 + omega * t;
-        let (d, d1, d2) = self.connection.deflection(x1)?;
-        let r = F::ONE / (d1 * d2);
+        let (d, d1) = self.connection.deflection_along(omega, t)?;
+        let r = F::ONE / (d1 * t);
         let weight = if d.theta < self.connection.theta_max {
             saturate(self.phase.eval(d) / (pdf_omega * line.c))
         } else {

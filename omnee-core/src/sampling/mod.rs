@@ -131,6 +131,20 @@ impl<F: Real> Connection<F> {
         ))
     }
 
+    /// The deflection at `x1 = x2 + t ω` (unit ω, t > 0) and `d1`, for the
+    /// ray techniques: `ω1 = ((x2 − x0) + t ω)/d1` and `ω2 = −ω`, so that a
+    /// vertex next to `x2` keeps its direction (`x1 − x2` of the rounded point
+    /// would not). `None` if `x1` is on `x0` or not finite.
+    #[inline]
+    pub fn deflection_along(&self, omega: F::Vec3, t: F) -> Option<(Deflection<F>, F)> {
+        let a = (self.axis.x2 - self.axis.x0) + omega * t;
+        let d1 = a.length();
+        if !(d1 > F::ZERO && d1.is_finite()) {
+            return None;
+        }
+        Some((Deflection::between(a * (F::ONE / d1), -omega), d1))
+    }
+
     /// The kernel `k(x1) = p(θ) / (d1² d2²)` for θ < θmax, else 0 (finite,
     /// saturating).
     #[inline]

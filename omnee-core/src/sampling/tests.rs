@@ -550,3 +550,75 @@ fn pdf_is_the_inverse_jacobian_of_the_sample_map() {
         }
     }
 }
+
+/// The f32 sample's pdf and weight against f64 for the same (f32) input:
+/// the worst relative differences over `us`.
+fn f32_vs_f64_at(
+    t32: &dyn Technique<f32>,
+    t64: &dyn Technique<f64>,
+    us: &[[f32; 3]],
+) -> (f64, f64) {
+    let rel = |x: f32, y: f64| (x as f64 - y).abs() / y.abs();
+    let mut worst = (0.0f64, 0.0f64);
+    for &u in us {
+        let (a, b) = (t32.sample(u), t64.sample(u.map(f64::from)));
+        assert_eq!(a.is_some(), b.is_some(), "{u:?}");
+        if let (Some(a), Some(b)) = (a, b) {
+            worst.0 = worst.0.max(rel(a.pdf, b.pdf));
+            worst.1 = worst.1.max(rel(a.weight, b.weight));
+        }
+    }
+    worst
+}
+
+#[test]
+fn f32_keeps_its_digits_at_the_edges_of_the_sample_space() {
+    // The inputs where f32 used to lose digits, each by a different cause:
+    // θ → π (sin θ and sin β from a rounded θ), u2 → 0 for equiangular
+    // (t = Δ + v cancelled next to the receiver), and HG with g → 1.
+    use glam::Vec3;
+    let pi32 = core::f32::consts::PI;
+    let (c32, c64) = (
+        Connection::new(Vec3::ZERO, Vec3::Z, pi32).unwrap(),
+        Connection::new(DVec3::ZERO, DVec3::Z, core::f64::consts::PI).unwrap(),
+    );
+    let edge = 1.0 - f32::EPSILON / 2.0;
+    let tiny = f32::EPSILON / 2.0;
+    let mut us = std::vec::Vec::new();
+    for u0 in [tiny, 1e-4, 0.3, 0.9998138, 1.0 - 1e-5, edge] {
+        for u1 in [tiny, 0.3, 0.5, 0.9, edge] {
+            for u2 in [0.0, tiny, 0.7] {
+                us.push([u0, u1, u2]);
+            }
+        }
+    }
+    for g in [-0.9999f32, -0.9, 0.0, 0.9, 0.9999] {
+        let (h32, h64) = (
+            HenyeyGreenstein::new(g).unwrap(),
+            HenyeyGreenstein::new(g as f64).unwrap(),
+        );
+        let (pdf, weight) = f32_vs_f64_at(&Omnee::new(c32, h32), &Omnee::new(c64, h64), &us);
+        std::println!("omnee g = {g}: pdf {pdf:.1e}, weight {weight:.1e}");
+        assert!(
+            pdf < 2e-5 && weight < 2e-6,
+            "omnee g = {g}: {pdf:e} {weight:e}"
+        );
+        let (e32, e64) = (
+            Equiangular::new(c32, h32, Directions::Sphere, Region::Everywhere),
+            Equiangular::new(c64, h64, Directions::Sphere, Region::Everywhere),
+        );
+        // u0 = 0 or 1 points the ray through x0 (no sample in either precision);
+        // keep the equiangular inputs off those two directions.
+        let off_axis: std::vec::Vec<_> = us
+            .iter()
+            .filter(|u| u[0] > 1e-3 && u[0] < 0.999)
+            .copied()
+            .collect();
+        let (pdf, weight) = f32_vs_f64_at(&e32, &e64, &off_axis);
+        std::println!("equiangular g = {g}: pdf {pdf:.1e}, weight {weight:.1e}");
+        assert!(
+            pdf < 2e-5 && weight < 2e-5,
+            "equiangular g = {g}: {pdf:e} {weight:e}"
+        );
+    }
+}
