@@ -17,7 +17,7 @@
 
 use crate::error::Error;
 use crate::phase::Deflection;
-use crate::real::{Real, Vector, sinc_with_sin};
+use crate::real::{Real, Vector, sinc, sinc_is_series, sinc_with_sin};
 
 /// The fixed end points `x0` (light side) and `x2` (receiver side) with the
 /// orthonormal frame `(b1, b2, e)` about the axis `e = (x2 − x0)/s`.
@@ -183,14 +183,15 @@ impl<F: Real> Triangle<F> {
         Self::solve(s, Deflection::from_theta(angles.theta), angles.beta_ratio)
     }
 
-    /// Solves the triangle by the law of sines (MATH.md §2, §4):
+    /// Solves the triangle by the law of sines (MATH.md §2, §4),
+    /// `d1 = s sin β / sin θ`, `d2 = s sin α / sin θ`, with
+    /// `sin θ = √((1 − cos θ)(1 + cos θ))` from the deflection's versines:
     ///
-    /// - θ ≤ π/2: `d1 = s (β/θ) sinc β / sinc θ`, `d2 = s (α/θ) sinc α / sinc θ`,
-    ///   exact at θ = 0 (`d1 = (β/θ) s`);
-    /// - θ > π/2: `d1 = s sin β / sin θ`, `d2 = s sin α / sin θ`, with
-    ///   `sin θ = √((1 − cos θ)(1 + cos θ))` from the deflection's versines,
-    ///   and the sine of whichever of α, β exceeds π/2 taken from the other
-    ///   angle `x` by `sin(θ − x) = sin θ cos x + |cos θ| sin x` (two
+    /// - for θ so small that `sin θ / θ` is its series (θ = 0 included), in
+    ///   `sinc` form, `d1 = s (β/θ) sinc β / sinc θ`, `d2 = s (α/θ) sinc α / sinc θ`
+    ///   (`d1 = (β/θ) s` at θ = 0);
+    /// - for θ > π/2, the sine of whichever of α, β exceeds π/2 comes from the
+    ///   other angle `x` by `sin(θ − x) = sin θ cos x + |cos θ| sin x` (two
     ///   non-negative terms). Near θ = π the rounded θ has lost the digits of
     ///   π − θ; these forms never use them.
     ///
@@ -212,26 +213,28 @@ impl<F: Real> Triangle<F> {
         }
         let (beta, alpha) = (beta_ratio * theta, (F::ONE - beta_ratio) * theta);
         let (sin_alpha, cos_alpha) = alpha.sin_cos();
-        let sin_theta = deflection.sin();
-        let (d1, d2, sinc_theta, sin_alpha) = if one_plus_cos >= F::ONE {
+        let (d1, d2, sinc_theta, sin_alpha) = if sinc_is_series(theta) {
             let sin_beta = beta.sin();
-            let sinc_theta = sinc_with_sin(theta, sin_theta);
+            let sinc_theta = sinc(theta);
             let scale = s / sinc_theta;
             let d1 = scale * beta_ratio * sinc_with_sin(beta, sin_beta);
             let d2 = scale * (F::ONE - beta_ratio) * sinc_with_sin(alpha, sin_alpha);
             (d1, d2, sinc_theta, sin_alpha)
         } else {
-            let (sin_beta, cos_beta) = beta.sin_cos();
+            let sin_theta = deflection.sin();
+            // −cos θ, positive exactly when θ > π/2, the only case where α or
+            // β can exceed π/2.
             let minus_cos_theta = F::ONE - one_plus_cos;
-            let sin_beta = if beta > F::FRAC_PI_2 {
-                sin_theta * cos_alpha + minus_cos_theta * sin_alpha
+            let (sin_beta, sin_alpha) = if beta > F::FRAC_PI_2 {
+                (
+                    sin_theta * cos_alpha + minus_cos_theta * sin_alpha,
+                    sin_alpha,
+                )
+            } else if alpha > F::FRAC_PI_2 {
+                let (sin_beta, cos_beta) = beta.sin_cos();
+                (sin_beta, sin_theta * cos_beta + minus_cos_theta * sin_beta)
             } else {
-                sin_beta
-            };
-            let sin_alpha = if alpha > F::FRAC_PI_2 {
-                sin_theta * cos_beta + minus_cos_theta * sin_beta
-            } else {
-                sin_alpha
+                (beta.sin(), sin_alpha)
             };
             let scale = s / sin_theta;
             (

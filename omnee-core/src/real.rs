@@ -366,7 +366,7 @@ pub fn cast_vec<A: Real, B: Real>(v: A::Vec3) -> B::Vec3 {
 /// so that it is exactly 1 at x = 0 and correctly rounded nearby.
 #[inline]
 pub fn sinc<F: Real>(x: F) -> F {
-    if sinc_series_is_exact(x) {
+    if sinc_is_series(x) {
         sinc_series(x)
     } else {
         x.sin() / x
@@ -377,16 +377,17 @@ pub fn sinc<F: Real>(x: F) -> F {
 /// where `x` is so small that `sin x / x` could be 0/0 or lose bits to underflow.
 #[inline]
 pub fn sinc_with_sin<F: Real>(x: F, sin_x: F) -> F {
-    if sinc_series_is_exact(x) {
+    if sinc_is_series(x) {
         sinc_series(x)
     } else {
         sin_x / x
     }
 }
 
-/// Whether the next series term x⁶/5040 is under half an ulp of 1.
+/// Whether [`sinc`] uses its series at `x`: where the next term x⁶/5040 is
+/// far under half an ulp of 1 (|x| below 1.9e-3 in f32, 1.2e-5 in f64).
 #[inline]
-fn sinc_series_is_exact<F: Real>(x: F) -> bool {
+pub fn sinc_is_series<F: Real>(x: F) -> bool {
     x * x < F::from_f64(1e-2) * F::EPSILON.sqrt()
 }
 

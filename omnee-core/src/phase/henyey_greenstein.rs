@@ -48,7 +48,14 @@ impl<F: Real> PhaseFunction<F> for HenyeyGreenstein<F> {
         F::FRAC_1_4PI * (F::ONE - g) * (F::ONE + g) / (den * den.sqrt())
     }
 
-    /// The inverse CDF in θ. With `k = 1 + g − 2gu` and `q = (1 − g²)/k`:
+    /// The inverse CDF in θ ([`Self::sample_pdf`] without the density).
+    #[inline]
+    fn sample(&self, u: F) -> Deflection<F> {
+        self.sample_pdf(u).0
+    }
+
+    /// The inverse CDF in θ with its density. With `k = 1 + g − 2gu` and
+    /// `q = (1 − g²)/k`:
     ///
     /// `1 − cos θ = (1 − g) u (q + 1 − g) / k`,
     /// `1 + cos θ = (1 + g)(1 − u)(q + 1 + g) / k`,
@@ -57,18 +64,25 @@ impl<F: Real> PhaseFunction<F> for HenyeyGreenstein<F> {
     /// isotropic `1 − cos θ = 2u`). `k` itself is summed from non-negative
     /// terms, `(1 − g) + 2g(1 − u)` for g ≥ 0 and `(1 + g) − 2gu` for g < 0
     /// (`1 + g − 2gu` cancels for g → 1, u → 1: 1e-13 relative at g = 0.997).
+    /// Since `1 + g² − 2g cos θ = q²` at the drawn angle, the density is
+    /// `p = (1 − g²) / (4π q³) = k³ / (4π (1 − g²)²)`.
     #[inline]
-    fn sample(&self, u: F) -> Deflection<F> {
+    fn sample_pdf(&self, u: F) -> (Deflection<F>, F) {
         let g = self.g;
+        // Outside the contract u ∈ [0, 1) (and for NaN) the nearest end.
+        let u = u.clamp_to(F::ZERO, F::ONE);
         let k = if g >= F::ZERO {
             (F::ONE - g) + F::TWO * g * (F::ONE - u)
         } else {
             (F::ONE + g) - F::TWO * g * u
         };
-        let q = (F::ONE - g) * (F::ONE + g) / k;
-        let one_minus_cos = (F::ONE - g) * u * (q + (F::ONE - g)) / k;
-        let one_plus_cos = (F::ONE + g) * (F::ONE - u) * (q + (F::ONE + g)) / k;
-        Deflection::from_versines(one_minus_cos, one_plus_cos)
+        let inv_k = F::ONE / k;
+        let one_minus_g2 = (F::ONE - g) * (F::ONE + g);
+        let q = one_minus_g2 * inv_k;
+        let one_minus_cos = (F::ONE - g) * u * (q + (F::ONE - g)) * inv_k;
+        let one_plus_cos = (F::ONE + g) * (F::ONE - u) * (q + (F::ONE + g)) * inv_k;
+        let pdf = F::FRAC_1_4PI * (k * k * k) / (one_minus_g2 * one_minus_g2);
+        (Deflection::from_versines(one_minus_cos, one_plus_cos), pdf)
     }
 
     /// `P(Θ ≤ θ) = (1 + g)(1 − cos θ) / (√D (√D + 1 − g))`, the textbook

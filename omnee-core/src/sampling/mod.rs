@@ -124,11 +124,7 @@ impl<F: Real> Connection<F> {
         if !(d1 > F::ZERO && d2 > F::ZERO && d1.is_finite() && d2.is_finite()) {
             return None;
         }
-        Some((
-            Deflection::between(a * (F::ONE / d1), b * (F::ONE / d2)),
-            d1,
-            d2,
-        ))
+        Some((Deflection::between_segments(a, d1, b, d2), d1, d2))
     }
 
     /// The deflection at `x1 = x2 + t ω` (unit ω, t > 0) and `d1`, for the
@@ -142,7 +138,7 @@ impl<F: Real> Connection<F> {
         if !(d1 > F::ZERO && d1.is_finite()) {
             return None;
         }
-        Some((Deflection::between(a * (F::ONE / d1), -omega), d1))
+        Some((Deflection::between_segments(a, d1, -omega, F::ONE), d1))
     }
 
     /// The kernel `k(x1) = p(θ) / (d1² d2²)` for θ < θmax, else 0 (finite,

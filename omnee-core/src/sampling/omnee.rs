@@ -33,12 +33,12 @@ impl<F: Real, P: PhaseFunction<F>> Omnee<F, P> {
         Self { connection, phase }
     }
 
-    /// `pdf = p(θ) sinc θ · s / (d1² d2²)`, evaluated in an order that neither
+    /// `pdf = p(θ) sinc θ · s / (d1² d2²)` from `p(θ)`, evaluated in an order that neither
     /// overflows nor underflows for s from 1e-6 to 1e6 in f32.
     #[inline]
-    fn density(&self, d: Deflection<F>, sinc_theta: F, d1: F, d2: F) -> F {
+    fn density(&self, phase_pdf: F, sinc_theta: F, d1: F, d2: F) -> F {
         let r = F::ONE / (d1 * d2);
-        saturate(self.phase.pdf(d) * sinc_theta * self.connection.axis.s * r * r)
+        saturate(phase_pdf * sinc_theta * self.connection.axis.s * r * r)
     }
 }
 
@@ -48,7 +48,7 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Omnee<F, P> {
     #[inline]
     fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
         let axis = &self.connection.axis;
-        let d = self.phase.sample(u[0]);
+        let (d, phase_pdf) = self.phase.sample_pdf(u[0]);
         if !(d.theta < self.connection.theta_max) {
             return None;
         }
@@ -58,7 +58,7 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Omnee<F, P> {
         }
         Some(Sample {
             x1: axis.place(&triangle, F::TAU * u[2])?,
-            pdf: self.density(d, triangle.sinc_theta, triangle.d1, triangle.d2),
+            pdf: self.density(phase_pdf, triangle.sinc_theta, triangle.d1, triangle.d2),
             weight: saturate(F::ONE / (axis.s * triangle.sinc_theta)),
         })
     }
@@ -69,7 +69,7 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Omnee<F, P> {
     fn pdf(&self, x1: F::Vec3) -> F {
         match self.connection.deflection(x1) {
             Some((d, d1, d2)) if d.theta < self.connection.theta_max => {
-                self.density(d, sinc_with_sin(d.theta, d.sin()), d1, d2)
+                self.density(self.phase.pdf(d), sinc_with_sin(d.theta, d.sin()), d1, d2)
             }
             _ => F::ZERO,
         }
