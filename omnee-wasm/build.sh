@@ -90,14 +90,12 @@ target_dir() {
 
 # Release wasm -> wasm-bindgen (--target web) -> wasm-opt -Oz, with the size check.
 build_wasm() {
-    log "cargo build --release --target wasm32-unknown-unknown"
-    # LTO for size, opt-level 3 for the sampling speed (z halves it); for this
-    # build only (the workspace profile is shared).
-    (cd "$ROOT" && CARGO_PROFILE_RELEASE_OPT_LEVEL=3 CARGO_PROFILE_RELEASE_LTO=true \
-        CARGO_PROFILE_RELEASE_CODEGEN_UNITS=1 CARGO_PROFILE_RELEASE_DEBUG=false \
-        cargo build -p omnee-wasm --release --target wasm32-unknown-unknown)
+    log "cargo build --profile wasm-release --target wasm32-unknown-unknown"
+    # The workspace's wasm-release profile (root Cargo.toml): LTO, one codegen
+    # unit, panic = abort, no debug info; used by this build only.
+    (cd "$ROOT" && cargo build -p omnee-wasm --profile wasm-release --target wasm32-unknown-unknown)
     local raw
-    raw="$(target_dir)/wasm32-unknown-unknown/release/omnee_wasm.wasm"
+    raw="$(target_dir)/wasm32-unknown-unknown/wasm-release/omnee_wasm.wasm"
     rm -rf "$PKG"
     wasm-bindgen --target web --out-dir "$PKG" "$raw"
     local bg="$PKG/omnee_wasm_bg.wasm"
