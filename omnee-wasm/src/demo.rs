@@ -7,7 +7,7 @@
 //! they came from), which keeps `d1`, `d2` and θ: an OMNEE sample of angle θ
 //! lands exactly on the drawn arc of that θ.
 
-use crate::phase::parse;
+use crate::phase::Spec;
 use crate::rng::Pcg32;
 use omnee_core::Error;
 use omnee_core::circumcircle::{Angles, Axis, circumradius, fractional_distance, side_lengths};
@@ -155,8 +155,8 @@ impl Problem {
         theta_max: f64,
         seed: u32,
     ) -> Result<Self, Error> {
-        let phase = parse::<S>(spec)?;
-        let phase64 = parse::<f64>(spec)?;
+        let spec = Spec::parse(spec)?;
+        let (phase, phase64) = (spec.build::<S>()?, spec.build::<f64>()?);
         let (a, b) = (plane_point(x0), plane_point(x2));
         let connection = Connection::<S>::new(a, b, S::from_f64(theta_max))?;
         let forward = Connection::<S>::new(a, b, S::from_f64(theta_max).min(S::FRAC_PI_2))?;
@@ -348,8 +348,8 @@ pub fn histogram(
             allowed: "(0, pi]",
         });
     }
-    let phase = parse::<S>(spec)?;
-    let phase64 = parse::<f64>(spec)?;
+    let spec = Spec::parse(spec)?;
+    let (phase, phase64) = (spec.build::<S>()?, spec.build::<f64>()?);
     let bins = bins as usize;
     let width = theta_hi / bins as f64;
     let mut out = vec![0.0; 2 * bins];
@@ -386,12 +386,12 @@ pub fn quantile(spec: &str, u: f64) -> Result<f64, Error> {
             allowed: "[0, 1)",
         });
     }
-    Ok(parse::<f64>(spec)?.sample(u).theta)
+    Ok(Spec::parse(spec)?.build::<f64>()?.sample(u).theta)
 }
 
 /// The mean cosine ⟨cos θ⟩ of the phase function `spec`.
 pub fn mean_cosine(spec: &str) -> Result<f64, Error> {
-    Ok(parse::<f64>(spec)?.mean_cosine())
+    Ok(Spec::parse(spec)?.build::<f64>()?.mean_cosine())
 }
 
 /// The talk's "waterlevel" triangle `x0, x1, x2` in the plane, with `x1` on

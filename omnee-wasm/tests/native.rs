@@ -326,3 +326,88 @@ fn bad_input_is_an_error_naming_the_field() {
         .to_string();
     assert!(msg.contains("g = 1.5") && msg.contains("(-1, 1)"), "{msg}");
 }
+
+#[test]
+fn numbers_are_read_as_f64_from_str_reads_them() {
+    for s in NUMBERS {
+        let (got, want) = (omnee_wasm::phase::number(s), s.parse::<f64>().ok());
+        assert!(same_number(got, want), "{s:?}: {got:?} vs {want:?}");
+    }
+}
+
+/// Specification strings, valid and not, for the comparison with the core.
+const SPECS: &[&str] = &[
+    "iso",
+    " iso ",
+    "rayleigh",
+    "hg:0.9",
+    " hg: -0.3 ",
+    "hg:+.5",
+    "hg:5e-1",
+    "hg:0.",
+    "hg:0.99999999",
+    "tthg:0.99,-0.44,0.96",
+    "tthg:0.997, 0.960, 0.5",
+    "ff:0.0183,1.10",
+    "draine:0.5557,22",
+    "draine:0.3,250",
+    "mie:10",
+    "mie:0.05",
+    "",
+    "henyey:0.5",
+    "HG:0.5",
+    "hg",
+    "hg:",
+    "hg:0.5,0.2",
+    "hg:0.5,",
+    "hg:abc",
+    "hg:1",
+    "hg:NaN",
+    "hg:-inf",
+    "hg:0x1",
+    "hg:1e",
+    "hg:\u{661}",
+    "tthg:0.9,0.1",
+    "tthg:0.9,x,0.5",
+    "tthg:0.9,0.1,2",
+    "tthg:-1.5,0.1,0.5",
+    "iso:1",
+    "rayleigh:",
+    "table:",
+    "table",
+    "table:x.csv",
+    "table: C:\\x.csv ",
+    "mie:10um",
+    "mie:0",
+    "mie:60",
+    "ff:0.6,1.1",
+    "ff:0.01,2",
+    "draine:0.5,-1",
+    "draine:inf,1",
+];
+
+/// The demo's reading of `spec` and the core's `Spec::parse`, as `Debug`
+/// strings (so that NaN values in errors compare equal).
+fn demo_and_core<F: omnee_core::real::Real>(spec: &str) -> (String, String) {
+    use omnee_core::phase::Spec as Core;
+    let demo = omnee_wasm::phase::Spec::parse(spec).and_then(|s| s.build::<F>());
+    let core = match Core::<F>::parse(spec) {
+        Ok(Core::Analytic(phase)) => Ok(phase),
+        Ok(Core::Table { .. }) => Err(omnee_core::Error::Syntax {
+            field: "table",
+            reason: "tables cannot be loaded in the browser demo",
+        }),
+        Err(e) => Err(e),
+    };
+    (format!("{demo:?}"), format!("{core:?}"))
+}
+
+#[test]
+fn spec_parsing_agrees_with_the_core() {
+    for spec in SPECS {
+        let (demo, core) = demo_and_core::<f32>(spec);
+        assert_eq!(demo, core, "f32 {spec:?}");
+        let (demo, core) = demo_and_core::<f64>(spec);
+        assert_eq!(demo, core, "f64 {spec:?}");
+    }
+}

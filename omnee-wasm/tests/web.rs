@@ -1,6 +1,7 @@
 //! The bindings in headless Chromium (wasm-bindgen-test): the same numbers as
 //! the native build for the fixed seeds of `common`, to 1e-6 relative, and
-//! bad input rejected with an error instead of a trap.
+//! bad input rejected with an error instead of a trap, and phase-spec
+//! numbers read as Rust reads them.
 #![cfg(target_arch = "wasm32")]
 
 mod common;
@@ -101,4 +102,14 @@ fn bad_input_is_an_error_not_a_trap() {
     assert!(arc(f64::INFINITY, 0.0, 1.0, 0.0, 1.0, 8).is_err());
     // The demo object is still usable after the errors.
     assert!(d.run(10).is_ok());
+}
+
+#[wasm_bindgen_test]
+fn numbers_are_read_as_f64_from_str_reads_them() {
+    // In the browser the rounding is JavaScript's Number: check it against
+    // Rust's own reading, compiled into this test.
+    for s in NUMBERS {
+        let (got, want) = (omnee_wasm::phase::number(s), s.parse::<f64>().ok());
+        assert!(same_number(got, want), "{s:?}: {got:?} vs {want:?}");
+    }
 }

@@ -58,3 +58,74 @@ pub const NAMES: [&str; 10] = [
     "waterlevel",
     "quantile",
 ];
+
+/// Number strings for [`omnee_wasm::phase::number`], which must read each
+/// exactly as `f64::from_str` does (the same bits, or `None` for both):
+/// short decimals, signs, exponents, the ends of the range, more digits than
+/// an f64 holds, the special words, and malformed strings.
+pub const NUMBERS: &[&str] = &[
+    "0",
+    "-0",
+    "+0",
+    "0.9",
+    "-0.44",
+    "1.10",
+    "0.0183",
+    "250",
+    ".5",
+    "2.",
+    "-.5e1",
+    "1e-3",
+    "1E+3",
+    "+1.5e2",
+    "0.1",
+    "0.30000000000000004",
+    "2.2250738585072011e-308",
+    "4.9e-324",
+    "2.4703282292062328e-324",
+    "1e-400",
+    "1e400",
+    "1.7976931348623157e308",
+    "1.7976931348623158e308",
+    "9007199254740993",
+    "123456789012345678901234567890",
+    "0.1000000000000000055511151231257827021181583404541015625",
+    "3.14159265358979323846264338327950288",
+    "00000000000000000000000000000000000000001.5",
+    "inf",
+    "-inf",
+    "+Infinity",
+    "INF",
+    "nan",
+    "NaN",
+    "-nan",
+    "infinit",
+    "",
+    ".",
+    "-",
+    "+",
+    "e5",
+    "1e",
+    "1e+",
+    ".e1",
+    "0x10",
+    "1_000",
+    " 1",
+    "1 ",
+    "1.2.3",
+    "--1",
+    "+-1",
+    "1e5.5",
+    "Infinity1",
+    "\u{661}",
+];
+
+/// Whether `a` and `b` are the same f64 (bit for bit, any NaN equal to any
+/// NaN) or both absent.
+pub fn same_number(a: Option<f64>, b: Option<f64>) -> bool {
+    match (a, b) {
+        (Some(x), Some(y)) => x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan()),
+        (None, None) => true,
+        _ => false,
+    }
+}
