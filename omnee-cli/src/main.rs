@@ -130,8 +130,8 @@ struct RenderArgs {
     /// Also write each term's layer as BASE.TERM.png, with the sum's exposure.
     #[arg(long)]
     png_layers: bool,
-    /// Progress bar: auto (when stderr is a terminal), always or never.
-    #[arg(long, default_value = "auto", value_parser = ["auto", "always", "never"])]
+    /// Progress bar on stderr: auto (drawn when stderr is a terminal) or never.
+    #[arg(long, default_value = "auto", value_parser = ["auto", "never"])]
     progress: String,
     /// Print the summary as JSON on stdout.
     #[arg(long)]
@@ -449,11 +449,7 @@ fn run_render(a: RenderArgs) -> Result<()> {
             theta_max: theta_max as f32,
         },
         roulette: (rr * l_ref) as f32,
-        progress: match a.progress.as_str() {
-            "always" => true,
-            "never" => false,
-            _ => std::io::IsTerminal::is_terminal(&std::io::stderr()),
-        },
+        progress: a.progress != "never",
     };
     let say = |line: &str| {
         if !a.json {

@@ -1,89 +1,74 @@
-//! A progress bar on stderr: a row counter that a render's threads bump and
-//! a line redrawn at most ten times a second.
+//! The render's progress bar on stderr (indicatif): rows of the current
+//! pass for a sample budget, elapsed seconds for a time budget.
 
 use crate::render::Budget;
-use std::io::Write;
-use std::sync::Mutex;
-use std::time::Instant;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-/// The state of the bar.
+/// A progress bar for one render.
 pub struct Progress {
+    bar: ProgressBar,
     budget: Budget,
     rows_per_pass: u64,
-    start: Instant,
-    state: Mutex<State>,
-}
-
-struct State {
-    last_draw: f64,
-    passes: u32,
-    rows: u64,
 }
 
 impl Progress {
-    /// A bar for `budget`, with `rows_per_pass` rows in each pass.
+    /// A bar for `budget`, with `rows_per_pass` rows in each pass; drawn on
+    /// stderr when it is a terminal (indicatif hides it otherwise).
     pub fn start(budget: Budget, rows_per_pass: u64) -> Self {
-        Progress {
-            budget,
-            rows_per_pass: rows_per_pass.max(1),
-            start: Instant::now(),
-            state: Mutex::new(State {
-                last_draw: -1.0,
-                passes: 0,
-                rows: 0,
-            }),
+        let rows_per_pass = rows_per_pass.max(1);
+        let (length, template) = match budget {
+            Budget::Spp(n) => (
+                u64::from(n) * rows_per_pass,
+                "[{bar:30}] {percent:>3}% {msg} spp, {elapsed_precise}, ETA {eta}",
+            ),
+            // Milliseconds of the budget.
+            Budget::Seconds(s) => (
+                (s * 1e3).ceil() as u64,
+                "[{bar:30}] {percent:>3}% {msg} spp, {elapsed_precise} of the budget",
+            ),
+        };
+        let bar = ProgressBar::with_draw_target(Some(length), ProgressDrawTarget::stderr());
+        if let Ok(style) = ProgressStyle::with_template(template) {
+            bar.set_style(style.progress_chars("#>-"));
         }
+        let progress = Self {
+            bar,
+            budget,
+            rows_per_pass,
+        };
+        progress.pass(0);
+        progress
     }
 
-    /// `rows` rows are done in total (all passes).
+    /// `rows` rows are done in total, over all passes.
     pub fn rows(&self, rows: u64) {
-        if let Ok(mut s) = self.state.lock() {
-            s.rows = s.rows.max(rows);
-            self.draw(&mut s, false);
+        match self.budget {
+            Budget::Spp(_) => self.bar.set_position(rows),
+            Budget::Seconds(_) => self.bar.set_position(self.bar.elapsed().as_millis() as u64),
         }
     }
 
     /// `passes` whole passes are done.
     pub fn pass(&self, passes: u32) {
-        if let Ok(mut s) = self.state.lock() {
-            s.passes = passes;
-            self.draw(&mut s, false);
-        }
-    }
-
-    /// Draws the final state and ends the line.
-    pub fn finish(self) {
-        if let Ok(mut s) = self.state.lock() {
-            self.draw(&mut s, true);
-        }
-        eprintln!();
-    }
-
-    fn draw(&self, s: &mut State, force: bool) {
-        let t = self.start.elapsed().as_secs_f64();
-        if !force && t - s.last_draw < 0.1 {
-            return;
-        }
-        s.last_draw = t;
-        let passes_f = s.rows as f64 / self.rows_per_pass as f64;
-        let (fraction, tail) = match self.budget {
-            Budget::Spp(n) => {
-                let f = passes_f / n as f64;
-                let eta = if f > 0.0 { t / f - t } else { 0.0 };
-                (f, format!("{}/{n} spp, {t:.1} s, ETA {eta:.1} s", s.passes))
-            }
-            Budget::Seconds(b) => (t / b, format!("{} spp, {t:.1}/{b:.1} s", s.passes)),
+        let total = match self.budget {
+            Budget::Spp(n) => format!("/{n}"),
+            Budget::Seconds(_) => String::new(),
         };
-        let width = 30;
-        let filled = ((fraction.clamp(0.0, 1.0)) * width as f64).round() as usize;
-        let mut err = std::io::stderr().lock();
-        let _ = write!(
-            err,
-            "\r[{}{}] {:3.0}% {tail}   ",
-            "#".repeat(filled),
-            "-".repeat(width - filled),
-            100.0 * fraction.clamp(0.0, 1.0)
-        );
-        let _ = err.flush();
+        self.bar.set_message(format!("{passes}{total}"));
+        if let Budget::Spp(_) = self.budget {
+            self.bar
+                .set_position(u64::from(passes) * self.rows_per_pass);
+        }
+    }
+
+    /// Draws the final state and leaves it on screen.
+    pub fn finish(self) {
+        if let Budget::Seconds(_) = self.budget {
+            self.bar.set_position(self.bar.length().unwrap_or(0));
+        }
+        self.bar.finish();
+        if !self.bar.is_hidden() {
+            eprintln!();
+        }
     }
 }
