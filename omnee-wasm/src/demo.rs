@@ -204,9 +204,11 @@ impl Problem {
         self.stats = [Running::default(); 3];
     }
 
-    /// Calls `f` with the technique of `method` (monomorphised per method, so
-    /// the sampling loops inline).
-    fn with<R>(&self, method: Method, f: impl WithTechnique<R>) -> Result<R, Error> {
+    /// Calls `f` with the technique of `method`. One call through
+    /// `&dyn Technique` (not one copy of `f` per technique): the dynamic call
+    /// per sample costs little next to the sample, and each sampling loop is
+    /// in the module once.
+    fn with<R>(&self, method: Method, f: impl FnOnce(&dyn Technique<S>) -> R) -> Result<R, Error> {
         let connection = self.problem.connection;
         let omnee = Omnee::new(connection, &self.phase);
         let equiangular = Equiangular::new(
@@ -215,19 +217,21 @@ impl Problem {
             Directions::Sphere,
             Region::Everywhere,
         );
-        Ok(match method {
-            Method::Omnee => f.call(&omnee),
-            Method::Equiangular => f.call(&equiangular),
+        let (forward, mis);
+        let technique: &dyn Technique<S> = match method {
+            Method::Omnee => &omnee,
+            Method::Equiangular => &equiangular,
             Method::Mis => {
-                let forward = Omnee::new(self.forward, &self.phase);
-                let mis = OneSample::new(
+                forward = Omnee::new(self.forward, &self.phase);
+                mis = OneSample::new(
                     [&forward as &dyn Technique<S>, &equiangular],
                     [0.5, 0.5],
                     Heuristic::Balance,
                 )?;
-                f.call(&mis)
+                &mis
             }
-        })
+        };
+        Ok(f(technique))
     }
 
     /// Draws `n` more samples (1 ..= [`MAX_RUN`]) with each of the three
@@ -238,15 +242,8 @@ impl Problem {
         for method in Method::ALL {
             let i = method as usize;
             let (rng, stats) = (self.rngs[i], self.stats[i]);
-            let (rng, stats) = self.with(
-                method,
-                Accumulate {
-                    problem: &self.problem,
-                    rng,
-                    stats,
-                    n,
-                },
-            )?;
+            let (rng, stats) =
+                self.with(method, |t| accumulate(t, &self.problem, rng, stats, n))?;
             self.rngs[i] = rng;
             self.stats[i] = stats;
         }
@@ -260,71 +257,57 @@ impl Problem {
     pub fn cloud(&self, method: Method, n: u32, seed: u32) -> Result<Vec<f32>, Error> {
         check_count("n", n, MAX_CLOUD, "[1, 1048576]")?;
         let rng = Pcg32::new(u64::from(seed), 16 + method as u64);
-        self.with(
-            method,
-            Cloud {
-                problem: &self.problem,
-                rng,
-                n,
-            },
-        )
+        self.with(method, |t| cloud(t, &self.problem, rng, n))
     }
 }
 
-/// A computation generic over the technique (a closure cannot be generic).
-trait WithTechnique<R> {
-    fn call<T: Technique<S>>(self, technique: &T) -> R;
-}
-
-struct Accumulate<'a> {
-    problem: &'a PointToPoint<S>,
-    rng: Pcg32,
-    stats: Running,
+/// Adds the estimates of `n` samples of `technique` (0 where it returns
+/// none) drawn from `rng` to `stats`; returns both advanced.
+fn accumulate(
+    technique: &dyn Technique<S>,
+    problem: &PointToPoint<S>,
+    mut rng: Pcg32,
+    mut stats: Running,
     n: u32,
-}
-
-impl WithTechnique<(Pcg32, Running)> for Accumulate<'_> {
-    fn call<T: Technique<S>>(mut self, technique: &T) -> (Pcg32, Running) {
-        for _ in 0..self.n {
-            let estimate = technique
-                .sample(self.rng.uniform3().map(S::from_f32))
-                .map_or(0.0, |s| self.problem.estimate(&s).to_f64());
-            self.stats.push(estimate);
-        }
-        (self.rng, self.stats)
+) -> (Pcg32, Running) {
+    for _ in 0..n {
+        let estimate = technique
+            .sample(rng.uniform3().map(S::from_f32))
+            .map_or(0.0, |s| problem.estimate(&s).to_f64());
+        stats.push(estimate);
     }
+    (rng, stats)
 }
 
-struct Cloud<'a> {
-    problem: &'a PointToPoint<S>,
-    rng: Pcg32,
+/// `n` samples of `technique` from `rng`, rotated into the plane about the
+/// axis: `[x, y, estimate, …]`.
+fn cloud(
+    technique: &dyn Technique<S>,
+    problem: &PointToPoint<S>,
+    mut rng: Pcg32,
     n: u32,
-}
-
-impl WithTechnique<Vec<f32>> for Cloud<'_> {
-    fn call<T: Technique<S>>(mut self, technique: &T) -> Vec<f32> {
-        let axis = &self.problem.connection.axis;
-        let e = axis.e;
-        // The in-plane normal of the axis (the plane is z = 0).
-        let normal = Vec3::new(-e.y(), e.x(), 0.0);
-        let mut out = Vec::with_capacity(3 * self.n as usize);
-        for _ in 0..self.n {
-            let Some(s) = technique.sample(self.rng.uniform3().map(S::from_f32)) else {
-                continue;
-            };
-            let p = s.x1 - axis.x0;
-            let along = p.dot(e);
-            let radial = p - e * along;
-            let h = radial.length().copysign(radial.dot(normal));
-            let q = axis.x0 + e * along + normal * h;
-            out.extend_from_slice(&[
-                q.x().to_f32(),
-                q.y().to_f32(),
-                self.problem.estimate(&s).to_f32(),
-            ]);
-        }
-        out
+) -> Vec<f32> {
+    let axis = &problem.connection.axis;
+    let e = axis.e;
+    // The in-plane normal of the axis (the plane is z = 0).
+    let normal = Vec3::new(-e.y(), e.x(), 0.0);
+    let mut out = Vec::with_capacity(3 * n as usize);
+    for _ in 0..n {
+        let Some(s) = technique.sample(rng.uniform3().map(S::from_f32)) else {
+            continue;
+        };
+        let p = s.x1 - axis.x0;
+        let along = p.dot(e);
+        let radial = p - e * along;
+        let h = radial.length().copysign(radial.dot(normal));
+        let q = axis.x0 + e * along + normal * h;
+        out.extend_from_slice(&[
+            q.x().to_f32(),
+            q.y().to_f32(),
+            problem.estimate(&s).to_f32(),
+        ]);
     }
+    out
 }
 
 /// A histogram of `n` deflections θ sampled (in f32, as a renderer does) from
