@@ -411,3 +411,45 @@ fn spec_parsing_agrees_with_the_core() {
         assert_eq!(demo, core, "f64 {spec:?}");
     }
 }
+
+#[test]
+fn quantile_inverts_the_cdf_of_every_phase_function() {
+    use omnee_core::phase::{Deflection, PhaseFunction};
+    for spec in [
+        "iso",
+        "hg:0.9",
+        "hg:-0.6",
+        "hg:0.997",
+        "rayleigh",
+        "tthg:0.95,-0.4,0.9",
+        "ff:0.0183,1.1",
+        "draine:0.6,2",
+        "mie:10",
+        "mie:0.5",
+    ] {
+        let phase = omnee_wasm::phase::Spec::parse(spec)
+            .and_then(|s| s.build::<f64>())
+            .unwrap();
+        for u in [0.0, 1e-6, 0.1, 0.5, 0.9, 0.995, 0.999_999] {
+            let theta = demo::quantile(spec, u).unwrap();
+            assert!((0.0..=PI).contains(&theta), "{spec} {u}: {theta}");
+            // θ is where the CDF crosses u, to one double.
+            let cdf = |t: f64| phase.cdf(Deflection::from_theta(t));
+            let below = f64::from_bits(theta.to_bits().saturating_sub(1));
+            assert!(
+                cdf(theta) >= u && (theta == 0.0 || cdf(below) < u),
+                "{spec}: cdf({below:e}) = {:e}, cdf({theta:e}) = {:e} around u = {u}",
+                cdf(below),
+                cdf(theta)
+            );
+            // For a single lobe the inverse-CDF sampler gives the same angle.
+            if phase.invert(Deflection::from_theta(theta)).is_some() && u > 0.0 {
+                let sampled = phase.sample(u).theta;
+                assert!(
+                    (sampled - theta).abs() <= 1e-9 * theta,
+                    "{spec} {u}: {sampled} vs {theta}"
+                );
+            }
+        }
+    }
+}

@@ -136,7 +136,7 @@ pub const WATERLEVEL: &[f64] = &[
     -0.4261306887053903,
 ];
 /// Fixture `quantile`.
-pub const QUANTILE: &[f64] = &[0.0];
+pub const QUANTILE: &[f64] = &[1.3168108831869594];
 
 /// All fixtures in the order of `NAMES`.
 pub const ALL: [&[f64]; 10] = [
