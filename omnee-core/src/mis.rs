@@ -5,8 +5,9 @@
 //! `w_i = 1 / (1 + Σ_{j≠i} (n_j p_j / n_i p_i)^β)`, which stays finite when a
 //! density saturates near an end point.
 
+use crate::phase::{Deflection, PhaseFunction};
 use crate::real::Real;
-use crate::sampling::{Sample, Technique, saturate};
+use crate::sampling::{Omnee, Sample, Technique, saturate};
 
 /// The MIS heuristic.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -177,6 +178,117 @@ impl<F: Real, const N: usize> Technique<F> for OneSample<'_, F, N> {
     }
 
     /// Not invertible: several techniques may produce the same point.
+    fn invert(&self, _x1: F::Vec3) -> Option<[F; 3]> {
+        None
+    }
+}
+
+/// One-sample MIS of OMNEE over the integrand's whole range θ < θmax and a
+/// companion technique (equiangular, say) in the backward cone θ ≥ θmin,
+/// the companion chosen with probability `c`. The weights are the balance
+/// heuristic behind the cone and all OMNEE in front of it,
+///
+/// `w_OMNEE = 1` for θ(x1) < θmin, else `w_i = c_i p_i / ((1 − c) p_OMNEE + c p_companion)`,
+///
+/// a partition of unity, so the estimate stays unbiased. In front of the
+/// cone OMNEE's weight θ/(s sin θ) is small (below 3.4/s for θmin = 3π/4) and
+/// no second density is evaluated: the common sample costs OMNEE alone.
+/// Behind it, where OMNEE's weight grows like 1/(π − θ), the companion takes
+/// over. Companion samples in front of the cone are discarded.
+///
+/// As a [`Technique`]: `pdf = (1 − c) p_OMNEE + c p_companion` behind the cone
+/// and `(1 − c) p_OMNEE` in front of it (the density of the returned points),
+/// and every returned weight is `k/pdf`. Not invertible.
+#[derive(Clone, Copy)]
+pub struct OmneeMis<'a, F: Real, P> {
+    omnee: Omnee<F, P>,
+    companion: &'a dyn Technique<F>,
+    share: F,
+    /// `1 − cos θmin`.
+    one_minus_cos_min: F,
+}
+
+impl<'a, F: Real, P: PhaseFunction<F>> OmneeMis<'a, F, P> {
+    /// OMNEE with `companion` behind the cone θ ≥ `theta_min`, chosen with
+    /// probability `share` ∈ [0, 1) (0: OMNEE alone).
+    pub fn new(
+        omnee: Omnee<F, P>,
+        companion: &'a dyn Technique<F>,
+        share: F,
+        theta_min: Deflection<F>,
+    ) -> Result<Self, crate::Error> {
+        crate::error::check_closed("share", share.to_f64(), 0.0, 1.0, "[0, 1)")?;
+        if share == F::ONE {
+            return Err(crate::Error::OutOfRange {
+                field: "share",
+                value: 1.0,
+                allowed: "[0, 1)",
+            });
+        }
+        Ok(Self {
+            omnee,
+            companion,
+            share,
+            one_minus_cos_min: theta_min.one_minus_cos,
+        })
+    }
+
+    /// Whether `x1` lies in the backward cone θ ≥ θmin.
+    #[inline]
+    fn behind(&self, x1: F::Vec3) -> bool {
+        self.omnee
+            .connection
+            .deflection(x1)
+            .is_some_and(|(d, _, _)| d.one_minus_cos >= self.one_minus_cos_min)
+    }
+}
+
+impl<F: Real, P: PhaseFunction<F>> Technique<F> for OmneeMis<'_, F, P> {
+    /// OMNEE for `u0 < 1 − c` (`u0` rescaled), else the companion.
+    fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
+        let c_omnee = F::ONE - self.share;
+        if u[0] < c_omnee {
+            let u0 = (u[0] / c_omnee).clamp_to(F::ZERO, F::ONE_MINUS_EPSILON);
+            let (s, d) = self.omnee.sample_deflection([u0, u[1], u[2]])?;
+            let own = c_omnee * s.pdf;
+            let other = if d.one_minus_cos >= self.one_minus_cos_min && self.share > F::ZERO {
+                self.share * self.companion.pdf(s.x1)
+            } else {
+                F::ZERO
+            };
+            Some(Sample {
+                x1: s.x1,
+                pdf: saturate(own + other),
+                weight: saturate(Heuristic::Balance.weight(own, [other]) * s.weight / c_omnee),
+            })
+        } else {
+            let u0 = ((u[0] - c_omnee) / self.share).clamp_to(F::ZERO, F::ONE_MINUS_EPSILON);
+            let s = self.companion.sample([u0, u[1], u[2]])?;
+            if !self.behind(s.x1) {
+                return None;
+            }
+            let own = self.share * s.pdf;
+            let other = c_omnee * self.omnee.pdf(s.x1);
+            Some(Sample {
+                x1: s.x1,
+                pdf: saturate(own + other),
+                weight: saturate(Heuristic::Balance.weight(own, [other]) * s.weight / self.share),
+            })
+        }
+    }
+
+    /// `(1 − c) p_OMNEE(x1) + c p_companion(x1)` behind the cone, the first
+    /// term alone in front of it.
+    fn pdf(&self, x1: F::Vec3) -> F {
+        let omnee = (F::ONE - self.share) * self.omnee.pdf(x1);
+        if self.share > F::ZERO && self.behind(x1) {
+            saturate(omnee + self.share * self.companion.pdf(x1))
+        } else {
+            omnee
+        }
+    }
+
+    /// Not invertible: both techniques reach the points behind the cone.
     fn invert(&self, _x1: F::Vec3) -> Option<[F; 3]> {
         None
     }

@@ -42,11 +42,11 @@ impl<F: Real, P: PhaseFunction<F>> Omnee<F, P> {
     }
 }
 
-impl<F: Real, P: PhaseFunction<F>> Technique<F> for Omnee<F, P> {
-    /// `θ = Θ(u0)` from the phase function, `β/θ = u1`, `φ = 2π u2`;
-    /// weight `1 / (s sinc θ)`.
+impl<F: Real, P: PhaseFunction<F>> Omnee<F, P> {
+    /// [`Technique::sample`] with the drawn deflection, for callers that
+    /// decide by θ what to do with the sample ([`crate::mis::OmneeMis`]).
     #[inline]
-    fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
+    pub fn sample_deflection(&self, u: [F; 3]) -> Option<(Sample<F>, Deflection<F>)> {
         let axis = &self.connection.axis;
         let (d, phase_pdf) = self.phase.sample_pdf(u[0]);
         if !(d.theta < self.connection.theta_max) {
@@ -56,11 +56,21 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Omnee<F, P> {
         if !(triangle.d1 > F::ZERO && triangle.d2 > F::ZERO) {
             return None; // x1 on an end point, where the integrand is singular
         }
-        Some(Sample {
+        let sample = Sample {
             x1: axis.place(&triangle, F::TAU * u[2])?,
             pdf: self.density(phase_pdf, triangle.sinc_theta, triangle.d1, triangle.d2),
             weight: saturate(F::ONE / (axis.s * triangle.sinc_theta)),
-        })
+        };
+        Some((sample, d))
+    }
+}
+
+impl<F: Real, P: PhaseFunction<F>> Technique<F> for Omnee<F, P> {
+    /// `θ = Θ(u0)` from the phase function, `β/θ = u1`, `φ = 2π u2`;
+    /// weight `1 / (s sinc θ)`.
+    #[inline]
+    fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
+        self.sample_deflection(u).map(|(sample, _)| sample)
     }
 
     /// `p(θ) sinc θ · s / (d1² d2²)` with θ between `ω1` and `ω2`

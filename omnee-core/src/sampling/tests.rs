@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::medium::{Homogeneous, Region};
-use crate::mis::{Heuristic, OneSample};
+use crate::mis::{Heuristic, OmneeMis, OneSample};
 use crate::phase::{HenyeyGreenstein, Isotropic};
 use crate::reference::PointToPoint;
 use glam::DVec3;
@@ -304,12 +304,24 @@ fn every_technique_agrees_with_the_quadrature_reference() {
             Heuristic::Power,
         )
         .unwrap();
+        let omnee_backward = OmneeMis::new(
+            omnee,
+            &equi,
+            0.1,
+            crate::phase::Deflection::from_theta(0.75 * PI),
+        )
+        .unwrap();
         let omnee_has_finite_variance = cfg.theta_max <= HALF || cfg.tau > 0.0;
         let mut techniques: std::vec::Vec<(&str, &dyn Technique<f64>, usize)> =
             std::vec![("mis omnee(θ<π/2)+equiangular", &omnee_equi, 400_000)];
         if omnee_has_finite_variance {
             techniques.push(("omnee", &omnee, 200_000));
             techniques.push(("mis omnee+distance", &omnee_dist, 400_000));
+            techniques.push((
+                "mis omnee+equiangular behind 3π/4",
+                &omnee_backward,
+                400_000,
+            ));
         }
         if cfg.g <= 0.5 {
             techniques.push(("equiangular", &equi, 1_000_000));
@@ -343,7 +355,7 @@ fn every_technique_agrees_with_the_quadrature_reference() {
             );
         }
     }
-    assert!(compared >= 36, "only {compared} comparisons");
+    assert!(compared >= 47, "only {compared} comparisons");
 }
 
 #[test]
@@ -619,6 +631,51 @@ fn f32_keeps_its_digits_at_the_edges_of_the_sample_space() {
         assert!(
             pdf < 2e-5 && weight < 2e-5,
             "equiangular g = {g}: {pdf:e} {weight:e}"
+        );
+    }
+}
+
+#[test]
+fn omnee_mis_returns_its_density_and_the_kernel_over_it() {
+    use crate::phase::Deflection;
+    let c = connection(core::f64::consts::PI);
+    for g in [-0.7, 0.0, 0.9] {
+        let hg = HenyeyGreenstein::new(g).unwrap();
+        let omnee = Omnee::new(c, hg);
+        let equi = Equiangular::new(c, hg, Directions::Sphere, Region::Everywhere);
+        let cone = Deflection::from_theta(0.75 * core::f64::consts::PI);
+        let mis = OmneeMis::new(omnee, &equi, 0.2, cone).unwrap();
+        let alone = OmneeMis::new(omnee, &equi, 0.0, cone).unwrap();
+        let mut rng = SplitMix(31);
+        let (mut behind, mut from_companion) = (0, 0);
+        for _ in 0..20_000 {
+            let u = uniform3(&mut rng);
+            // Share 0 is OMNEE itself.
+            assert_eq!(alone.sample(u), omnee.sample(u), "g {g}: {u:?}");
+            let Some(s) = mis.sample(u) else { continue };
+            let (d, _, _) = c.deflection(s.x1).unwrap();
+            // Off the cone's edge, where the sampled and the recomputed θ
+            // may classify a point differently by rounding.
+            if (d.one_minus_cos / cone.one_minus_cos - 1.0).abs() < 1e-9 {
+                continue;
+            }
+            behind += usize::from(d.one_minus_cos > cone.one_minus_cos);
+            from_companion += usize::from(u[0] >= 0.8);
+            let pdf = mis.pdf(s.x1);
+            assert!((pdf / s.pdf - 1.0).abs() < 1e-9, "g {g}: {pdf} vs {s:?}");
+            let k = c.kernel(&hg, s.x1);
+            assert!(
+                (k / s.pdf / s.weight - 1.0).abs() < 1e-9,
+                "g {g}: k/pdf {} vs weight {}",
+                k / s.pdf,
+                s.weight
+            );
+            // The companion returns points behind the cone only.
+            assert!(u[0] < 0.8 || d.one_minus_cos > cone.one_minus_cos);
+        }
+        assert!(
+            behind > 100 && from_companion > 100,
+            "g {g}: {behind} {from_companion}"
         );
     }
 }
