@@ -7,13 +7,13 @@
 //! they came from), which keeps `d1`, `d2` and θ: an OMNEE sample of angle θ
 //! lands exactly on the drawn arc of that θ.
 
-use crate::phase::Spec;
+use crate::phase::{Analytic, Spec};
 use crate::rng::Pcg32;
 use omnee_core::Error;
 use omnee_core::circumcircle::{Angles, Axis, circumradius, fractional_distance, side_lengths};
 use omnee_core::medium::{Homogeneous, Region};
 use omnee_core::mis::{Heuristic, OneSample};
-use omnee_core::phase::{Deflection, Phase, PhaseFunction};
+use omnee_core::phase::{Deflection, PhaseFunction};
 use omnee_core::real::{Real, Vector};
 use omnee_core::reference::PointToPoint;
 use omnee_core::sampling::{Connection, Directions, Equiangular, Omnee, Technique};
@@ -132,7 +132,7 @@ fn widen(v: Vec3) -> DVec3 {
 /// with running estimates of its integral by the three [`Method`]s.
 #[derive(Clone, Debug)]
 pub struct Problem {
-    phase: Phase<'static, S>,
+    phase: Analytic<S>,
     problem: PointToPoint<S>,
     forward: Connection<S>,
     reference: f64,

@@ -8,11 +8,13 @@
 //! and big-number fallback are some 18 KiB of wasm; here the syntax is checked
 //! in Rust and the correctly rounded conversion is JavaScript's `Number` (in
 //! the browser) or `f64::from_str` (natively), the same value either way. A
-//! string is parsed once and built in either precision.
+//! string is parsed once and built in either precision, as an [`Analytic`]
+//! phase function.
 
 use omnee_core::Error;
 use omnee_core::phase::{
-    Draine, FournierForand, HenyeyGreenstein, Isotropic, Mie, Mixture, Phase, Rayleigh,
+    Deflection, Draine, FournierForand, HenyeyGreenstein, Isotropic, Mie, Mixture, Phase,
+    PhaseFunction, Rayleigh, TwoTermHg,
 };
 use omnee_core::real::Real;
 
@@ -110,17 +112,105 @@ impl Spec {
 
     /// The phase function in precision `F` (parameters rounded to `F` and
     /// checked by the core's constructors, as `Spec::<F>::parse` does).
-    pub fn build<F: Real>(&self) -> Result<Phase<'static, F>, Error> {
+    pub fn build<F: Real>(&self) -> Result<Analytic<F>, Error> {
         let [a, b, c] = self.params.map(F::from_f64);
         Ok(match self.kind {
-            Kind::Isotropic => Phase::Isotropic(Isotropic),
-            Kind::HenyeyGreenstein => Phase::HenyeyGreenstein(HenyeyGreenstein::new(a)?),
-            Kind::TwoTermHg => Phase::TwoTermHg(Mixture::two_term(a, b, c)?),
-            Kind::FournierForand => Phase::FournierForand(FournierForand::new(a, b)?),
-            Kind::Draine => Phase::Draine(Draine::new(a, b)?),
-            Kind::Mie => Phase::Mie(Mie::new(a)?),
-            Kind::Rayleigh => Phase::Rayleigh(Rayleigh),
+            Kind::Isotropic => Analytic::Isotropic(Isotropic),
+            Kind::HenyeyGreenstein => Analytic::HenyeyGreenstein(HenyeyGreenstein::new(a)?),
+            Kind::TwoTermHg => Analytic::TwoTermHg(Mixture::two_term(a, b, c)?),
+            Kind::FournierForand => Analytic::FournierForand(FournierForand::new(a, b)?),
+            Kind::Draine => Analytic::Draine(Draine::new(a, b)?),
+            Kind::Mie => Analytic::Mie(Mie::new(a)?),
+            Kind::Rayleigh => Analytic::Rayleigh(Rayleigh),
         })
+    }
+}
+
+/// The analytic phase functions of the core's [`Phase`], i.e. all but its
+/// caller-owned table, which the page cannot load. The demo dispatches on
+/// this enum rather than on `Phase` so that the table's sampler, CDF and
+/// lookup are not in the module (2.1 KiB).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Analytic<F> {
+    /// `p = 1/(4π)`.
+    Isotropic(Isotropic),
+    /// Henyey–Greenstein.
+    HenyeyGreenstein(HenyeyGreenstein<F>),
+    /// Two-term Henyey–Greenstein.
+    TwoTermHg(TwoTermHg<F>),
+    /// Fournier–Forand.
+    FournierForand(FournierForand<F>),
+    /// Draine.
+    Draine(Draine<F>),
+    /// The approximate Mie fit by droplet diameter.
+    Mie(Mie<F>),
+    /// Rayleigh.
+    Rayleigh(Rayleigh),
+}
+
+impl<F> From<Analytic<F>> for Phase<'static, F> {
+    /// The same phase function as the core's enum.
+    fn from(p: Analytic<F>) -> Self {
+        match p {
+            Analytic::Isotropic(p) => Phase::Isotropic(p),
+            Analytic::HenyeyGreenstein(p) => Phase::HenyeyGreenstein(p),
+            Analytic::TwoTermHg(p) => Phase::TwoTermHg(p),
+            Analytic::FournierForand(p) => Phase::FournierForand(p),
+            Analytic::Draine(p) => Phase::Draine(p),
+            Analytic::Mie(p) => Phase::Mie(p),
+            Analytic::Rayleigh(p) => Phase::Rayleigh(p),
+        }
+    }
+}
+
+/// Calls `$call` on whichever phase function `$self` holds.
+macro_rules! dispatch {
+    ($self:expr, $p:ident => $call:expr) => {
+        match $self {
+            Analytic::Isotropic($p) => $call,
+            Analytic::HenyeyGreenstein($p) => $call,
+            Analytic::TwoTermHg($p) => $call,
+            Analytic::FournierForand($p) => $call,
+            Analytic::Draine($p) => $call,
+            Analytic::Mie($p) => $call,
+            Analytic::Rayleigh($p) => $call,
+        }
+    };
+}
+
+/// Every method is the variant's own, as for the core's [`Phase`].
+impl<F: Real> PhaseFunction<F> for Analytic<F> {
+    #[inline]
+    fn eval(&self, d: Deflection<F>) -> F {
+        dispatch!(self, p => p.eval(d))
+    }
+    #[inline]
+    fn sample(&self, u: F) -> Deflection<F> {
+        dispatch!(self, p => p.sample(u))
+    }
+    #[inline]
+    fn cdf(&self, d: Deflection<F>) -> F {
+        dispatch!(self, p => p.cdf(d))
+    }
+    #[inline]
+    fn mean_cosine(&self) -> F {
+        dispatch!(self, p => PhaseFunction::<F>::mean_cosine(p))
+    }
+    #[inline]
+    fn pdf(&self, d: Deflection<F>) -> F {
+        dispatch!(self, p => p.pdf(d))
+    }
+    #[inline]
+    fn sample_pdf(&self, u: F) -> (Deflection<F>, F) {
+        dispatch!(self, p => p.sample_pdf(u))
+    }
+    #[inline]
+    fn invert(&self, d: Deflection<F>) -> Option<F> {
+        dispatch!(self, p => p.invert(d))
+    }
+    #[inline]
+    fn backscatter_fraction(&self) -> F {
+        dispatch!(self, p => PhaseFunction::<F>::backscatter_fraction(p))
     }
 }
 

@@ -390,7 +390,9 @@ const SPECS: &[&str] = &[
 /// strings (so that NaN values in errors compare equal).
 fn demo_and_core<F: omnee_core::real::Real>(spec: &str) -> (String, String) {
     use omnee_core::phase::Spec as Core;
-    let demo = omnee_wasm::phase::Spec::parse(spec).and_then(|s| s.build::<F>());
+    let demo = omnee_wasm::phase::Spec::parse(spec)
+        .and_then(|s| s.build::<F>())
+        .map(omnee_core::phase::Phase::from);
     let core = match Core::<F>::parse(spec) {
         Ok(Core::Analytic(phase)) => Ok(phase),
         Ok(Core::Table { .. }) => Err(omnee_core::Error::Syntax {
