@@ -4,34 +4,39 @@
 use crate::demo::{self, Method, Problem};
 use wasm_bindgen::prelude::*;
 
-#[wasm_bindgen]
+#[wasm_bindgen(inline_js = "
+export function error(a, b, value, c, d) {
+  return new Error(a + b + (value === undefined ? '' : String(value)) + c + d);
+}")]
 extern "C" {
-    /// JavaScript's `String(x)`: the page formats numbers, which keeps Rust's
-    /// float formatting (some 20 KiB of wasm) out of the module.
-    #[wasm_bindgen(js_name = String)]
-    fn number_to_string(x: f64) -> String;
+    /// `new Error(a + b + String(value) + c + d)` (no number for `None`):
+    /// JavaScript formats the number and joins the message, which keeps
+    /// Rust's float formatting and string building out of the module.
+    fn error(a: &str, b: &str, value: Option<f64>, c: &str, d: &str) -> JsValue;
 }
 
 /// The core's error as a JavaScript `Error` with the message of its `Display`
 /// (`g = 1.5 is out of range; allowed: (-1, 1)`), the number formatted by
-/// JavaScript.
-fn js(e: omnee_core::Error) -> JsError {
+/// JavaScript (`Infinity` where Rust writes `inf`).
+fn js(e: omnee_core::Error) -> JsValue {
     use omnee_core::Error::*;
-    let message = match e {
+    match e {
         OutOfRange {
             field,
             value,
             allowed,
-        } => {
-            let value = number_to_string(value);
-            [field, " = ", &value, " is out of range; allowed: ", allowed].concat()
-        }
-        NotFinite { field } => [field, " has a non-finite component"].concat(),
-        Degenerate { field, reason } => [field, ": ", reason].concat(),
-        Table { field, reason } => ["table ", field, ": ", reason].concat(),
-        Syntax { field, reason } => ["syntax error in ", field, ": ", reason].concat(),
-    };
-    JsError::new(&message)
+        } => error(
+            field,
+            " = ",
+            Some(value),
+            " is out of range; allowed: ",
+            allowed,
+        ),
+        NotFinite { field } => error(field, " has a non-finite component", None, "", ""),
+        Degenerate { field, reason } => error(field, ": ", None, reason, ""),
+        Table { field, reason } => error("table ", field, None, ": ", reason),
+        Syntax { field, reason } => error("syntax error in ", field, None, ": ", reason),
+    }
 }
 
 /// The point-to-point integral in the demo plane and its running estimates by
@@ -60,7 +65,7 @@ impl Demo {
         #[wasm_bindgen(js_name = sigmaA)] sigma_a: f64,
         #[wasm_bindgen(js_name = thetaMax)] theta_max: f64,
         seed: u32,
-    ) -> Result<Demo, JsError> {
+    ) -> Result<Demo, JsValue> {
         Problem::new(
             phase,
             [x0x, x0y],
@@ -82,12 +87,12 @@ impl Demo {
 
     /// Draws `n` (1 ..= 2²⁴) more samples with each technique and updates the
     /// running estimates.
-    pub fn run(&mut self, n: u32) -> Result<(), JsError> {
+    pub fn run(&mut self, n: u32) -> Result<(), JsValue> {
         self.inner.run(n).map_err(js)
     }
 
     /// The running estimate of `technique` (0 OMNEE, 1 equiangular, 2 MIS).
-    pub fn estimate(&self, technique: u32) -> Result<Estimate, JsError> {
+    pub fn estimate(&self, technique: u32) -> Result<Estimate, JsValue> {
         let stats = self.inner.stats(Method::from_index(technique).map_err(js)?);
         let reference = self.inner.reference();
         Ok(Estimate {
@@ -104,7 +109,7 @@ impl Demo {
 
     /// `n` (1 ..= 2²⁰) samples of `technique` drawn from generator `seed`,
     /// rotated into the plane about the axis: `[x, y, estimate, …]`.
-    pub fn cloud(&self, technique: u32, n: u32, seed: u32) -> Result<Vec<f32>, JsError> {
+    pub fn cloud(&self, technique: u32, n: u32, seed: u32) -> Result<Vec<f32>, JsValue> {
         self.inner
             .cloud(Method::from_index(technique).map_err(js)?, n, seed)
             .map_err(js)
@@ -189,7 +194,7 @@ pub fn waterlevel(
     x2y: f64,
     theta: f64,
     xi: f64,
-) -> Result<Waterlevel, JsError> {
+) -> Result<Waterlevel, JsValue> {
     let w = demo::waterlevel([x0x, x0y], [x2x, x2y], theta, xi).map_err(js)?;
     Ok(Waterlevel {
         x1x: w.x1[0],
@@ -218,7 +223,7 @@ pub fn arc(
     x2y: f64,
     theta: f64,
     segments: u32,
-) -> Result<Vec<f64>, JsError> {
+) -> Result<Vec<f64>, JsValue> {
     demo::arc([x0x, x0y], [x2x, x2y], theta, segments).map_err(js)
 }
 
@@ -231,19 +236,19 @@ pub fn histogram(
     bins: u32,
     #[wasm_bindgen(js_name = thetaHi)] theta_hi: f64,
     seed: u32,
-) -> Result<Vec<f64>, JsError> {
+) -> Result<Vec<f64>, JsValue> {
     demo::histogram(phase, n, bins, theta_hi, seed).map_err(js)
 }
 
 /// The deflection θ below which a fraction `u` of the scattering goes.
 #[wasm_bindgen]
-pub fn quantile(phase: &str, u: f64) -> Result<f64, JsError> {
+pub fn quantile(phase: &str, u: f64) -> Result<f64, JsValue> {
     demo::quantile(phase, u).map_err(js)
 }
 
 /// The mean cosine of the phase function `phase`.
 #[wasm_bindgen(js_name = meanCosine)]
-pub fn mean_cosine(phase: &str) -> Result<f64, JsError> {
+pub fn mean_cosine(phase: &str) -> Result<f64, JsValue> {
     demo::mean_cosine(phase).map_err(js)
 }
 

@@ -8,6 +8,7 @@ mod common;
 
 use common::*;
 use omnee_wasm::{Demo, arc, histogram, mean_cosine, quantile, waterlevel};
+use wasm_bindgen::prelude::wasm_bindgen;
 use wasm_bindgen_test::*;
 
 wasm_bindgen_test_configure!(run_in_browser);
@@ -111,5 +112,36 @@ fn numbers_are_read_as_f64_from_str_reads_them() {
     for s in NUMBERS {
         let (got, want) = (omnee_wasm::phase::number(s), s.parse::<f64>().ok());
         assert!(same_number(got, want), "{s:?}: {got:?} vs {want:?}");
+    }
+}
+
+#[wasm_bindgen(
+    inline_js = "export function message(e) { return e instanceof Error ? e.message : ''; }"
+)]
+extern "C" {
+    /// The message of a thrown JavaScript `Error` (empty for anything else).
+    fn message(e: &wasm_bindgen::JsValue) -> String;
+}
+
+#[wasm_bindgen_test]
+fn errors_are_javascript_errors_with_the_cores_message() {
+    // (spec, x2, sigma_s): out of range, degenerate, not finite, syntax.
+    let cases: [(&str, [f64; 2], f64); 6] = [
+        ("hg:1.5", [1.0, 0.0], 0.1),
+        ("hg:0.5", [0.0, 0.0], 0.1),
+        ("hg:0.5", [f64::NAN, 0.0], 0.1),
+        ("bogus", [1.0, 0.0], 0.1),
+        ("tthg:0.9,x,0.5", [1.0, 0.0], 0.1),
+        ("iso", [1.0, 0.0], -0.25),
+    ];
+    for (spec, x2, sigma_s) in cases {
+        let thrown = Demo::new(spec, 0.0, 0.0, x2[0], x2[1], sigma_s, 0.1, PI, 1)
+            .map(|_| ())
+            .unwrap_err();
+        let native = omnee_wasm::demo::Problem::new(spec, [0.0; 2], x2, sigma_s, 0.1, PI, 1)
+            .map(|_| ())
+            .unwrap_err()
+            .to_string();
+        assert_eq!(message(&thrown), native, "{spec} {x2:?} {sigma_s}");
     }
 }
