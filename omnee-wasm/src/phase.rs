@@ -86,7 +86,7 @@ impl Spec {
     /// refused: the page reads no files.
     pub fn parse(spec: &str) -> Result<Self, Error> {
         let spec = spec.trim();
-        let (name, args) = match spec.split_once(':') {
+        let (name, args) = match split_once(spec, b':') {
             Some((n, a)) => (n.trim(), Some(a)),
             None => (spec, None),
         };
@@ -218,7 +218,7 @@ impl<F: Real> PhaseFunction<F> for Analytic<F> {
 /// wrong count.
 fn numbers(args: &str, fields: &[&'static str], usage: Error) -> Result<[f64; 3], Error> {
     let mut out = [0.0; 3];
-    let mut parts = args.split(',');
+    let mut parts = split(args, b',');
     for (slot, &field) in out.iter_mut().zip(fields) {
         let part = parts.next().ok_or(usage)?.trim();
         *slot = number(part).ok_or(syntax(field, "not a number"))?;
@@ -229,13 +229,38 @@ fn numbers(args: &str, fields: &[&'static str], usage: Error) -> Result<[f64; 3]
     }
 }
 
+/// The pieces of `s` between the `separator`s, an ASCII byte: `str::split`
+/// with a `char`, whose general pattern search is larger in wasm.
+fn split(s: &str, separator: u8) -> impl Iterator<Item = &str> {
+    let mut rest = Some(s);
+    core::iter::from_fn(move || {
+        let s = rest?;
+        let (piece, tail) = match split_once(s, separator) {
+            Some((piece, tail)) => (piece, Some(tail)),
+            None => (s, None),
+        };
+        rest = tail;
+        Some(piece)
+    })
+}
+
+/// `s` split at the first `separator`, an ASCII byte (so both sides are
+/// valid UTF-8): `str::split_once` with a `char`.
+fn split_once(s: &str, separator: u8) -> Option<(&str, &str)> {
+    let i = s.bytes().position(|b| b == separator)?;
+    Some((s.get(..i)?, s.get(i + 1..)?))
+}
+
 /// `s` as an f64 if it has the syntax of Rust's `f64::from_str`: an optional
 /// sign, then `inf`, `infinity` or `nan` in any case, or decimal digits with
 /// an optional point and an optional exponent (`1`, `-0.44`, `.5`, `2.`,
 /// `1e-3`), correctly rounded.
 pub fn number(s: &str) -> Option<f64> {
-    let unsigned = s.strip_prefix(['+', '-']).unwrap_or(s);
-    let negative = unsigned.len() < s.len() && s.starts_with('-');
+    let (negative, unsigned) = match s.as_bytes().first() {
+        Some(b'-') => (true, s.get(1..)?),
+        Some(b'+') => (false, s.get(1..)?),
+        _ => (false, s),
+    };
     let special =
         if unsigned.eq_ignore_ascii_case("inf") || unsigned.eq_ignore_ascii_case("infinity") {
             Some(f64::INFINITY)

@@ -384,6 +384,16 @@ const SPECS: &[&str] = &[
     "ff:0.01,2",
     "draine:0.5,-1",
     "draine:inf,1",
+    "tthg:0.9,,0.5",
+    "tthg:,0.1,0.5",
+    "tthg:0.9,0.1,0.5,",
+    "hg:0.5:0.3",
+    "hg :0.5",
+    ":0.5",
+    "draine:0.5, 1 ,",
+    "mie:\u{a0}10",
+    "\u{2003}hg:0.5\u{2003}",
+    "hg:\u{e9}",
 ];
 
 /// The demo's reading of `spec` and the core's `Spec::parse`, as `Debug`
