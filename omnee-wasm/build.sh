@@ -7,11 +7,13 @@ WASM_DIR="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 ROOT="$(cd "$WASM_DIR/.." && pwd)"
 PKG="$WASM_DIR/web/pkg"
 E2E="$WASM_DIR/e2e"
-# Issue 5's target is 64 KiB (65,536 B); the module is 128,069 B after
-# wasm-opt -Oz (2026-11-22: libm in both precisions and every phase function
-# instantiated for f32 sampling and f64 references). Until that is cut, this
-# guard fails CI on any growth beyond the measured size plus 4 KiB.
-MAX_WASM_BYTES=$((128069 + 4096))
+# Issue 5's limit is 64 KiB (65,536 B) after wasm-opt. It is not met yet:
+# 88,803 B on 2026-12-01 (README.md: where the bytes go and what is left).
+# Until it is, this guard fails CI on growth beyond the measured size plus
+# 4 KiB, and the size line reports the distance to the issue's limit; set
+# MAX_WASM_BYTES to ISSUE_WASM_BYTES once the module fits.
+ISSUE_WASM_BYTES=65536
+MAX_WASM_BYTES=$((88803 + 4096))
 
 log() { printf '== omnee-wasm: %s\n' "$*"; }
 
@@ -88,7 +90,7 @@ target_dir() {
         | node -e 'let s="";process.stdin.on("data",d=>s+=d).on("end",()=>console.log(JSON.parse(s).target_directory))'
 }
 
-# Release wasm -> wasm-bindgen (--target web) -> wasm-opt -Oz, with the size check.
+# Release wasm -> wasm-bindgen (--target web) -> wasm-opt, with the size check.
 build_wasm() {
     log "cargo build --profile wasm-release --target wasm32-unknown-unknown"
     # The workspace's wasm-release profile (root Cargo.toml): LTO, one codegen
@@ -101,13 +103,18 @@ build_wasm() {
     local bg="$PKG/omnee_wasm_bg.wasm"
     local before
     before=$(stat -c %s "$bg")
-    "$E2E/node_modules/.bin/wasm-opt" -Oz "$bg" -o "$bg"
+    # --converge repeats -Oz while it still shrinks the module (83 B, 1 s).
+    "$E2E/node_modules/.bin/wasm-opt" -Oz --converge "$bg" -o "$bg"
     WASM_BYTES=$(stat -c %s "$bg")
     WASM_GZIP_BYTES=$(gzip -9 -c "$bg" | wc -c)
-    log "wasm size: raw $(stat -c %s "$raw") B, after wasm-bindgen $before B, after wasm-opt -Oz $WASM_BYTES B ($WASM_GZIP_BYTES B gzip), limit $MAX_WASM_BYTES B"
+    local issue="within issue 5's $ISSUE_WASM_BYTES B"
+    if [ "$WASM_BYTES" -gt "$ISSUE_WASM_BYTES" ]; then
+        issue="issue 5's $ISSUE_WASM_BYTES B exceeded by $((WASM_BYTES - ISSUE_WASM_BYTES)) B"
+    fi
+    log "wasm size: raw $(stat -c %s "$raw") B, after wasm-bindgen $before B, after wasm-opt -Oz --converge $WASM_BYTES B ($WASM_GZIP_BYTES B gzip), limit $MAX_WASM_BYTES B; $issue"
     WASM_SIZE_OK=1
     if [ "$WASM_BYTES" -gt "$MAX_WASM_BYTES" ]; then
-        echo "omnee-wasm: optimised .wasm is $WASM_BYTES B > $MAX_WASM_BYTES B (size guard; issue 5 asks 65536 B)" >&2
+        echo "omnee-wasm: optimised .wasm is $WASM_BYTES B > $MAX_WASM_BYTES B (size guard; issue 5 asks $ISSUE_WASM_BYTES B)" >&2
         WASM_SIZE_OK=0
     fi
 }
