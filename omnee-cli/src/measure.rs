@@ -5,15 +5,15 @@
 //! `(seed, k)`, and the chunks' sums are combined in order: the result
 //! depends on the seed and the sample count, never on the thread count.
 
+use crate::cli::{
+    EstimateArgs, Precision, ProbeArgs, ProblemArgs, SampleFormat, SamplesArgs, with_threads,
+};
 use crate::error::{CliError, Result, core_error};
 use crate::phase::{PhaseSpec, TableStorage};
 use crate::rng::Rng;
 use crate::scene::{Range, Scene};
-use crate::technique::{Choice, Setup, choose};
+use crate::technique::{Choice, MisMix, Setup, choose};
 use crate::world::{OnceMore, Stats, World};
-use crate::{
-    EstimateArgs, Precision, ProbeArgs, ProblemArgs, SampleFormat, SamplesArgs, with_threads,
-};
 use omnee_core::medium::{Homogeneous, Region};
 use omnee_core::phase::PhaseFunction;
 use omnee_core::reference::PointToPoint;
@@ -311,6 +311,7 @@ fn with_sampler<F: Real, T>(
         directions,
         region: Region::Everywhere,
         sigma_t: F::from_f64(a.sigma_t),
+        mis: MisMix::new(),
     };
     let tech = p.choice.tech;
     let draw = |rng: &mut Rng| -> Draw<F> {
