@@ -4,8 +4,8 @@
 use crate::error::{CliError, Result};
 use omnee_core::Real;
 use omnee_core::medium::Region;
-use omnee_core::mis::{Heuristic, OneSample};
-use omnee_core::phase::PhaseFunction;
+use omnee_core::mis::OmneeMis;
+use omnee_core::phase::{Deflection, PhaseFunction};
 use omnee_core::sampling::{
     Connection, Directions, Distance, Equiangular, Omnee, Sample, Technique,
 };
@@ -20,9 +20,9 @@ pub enum Tech {
     Equiangular,
     /// Exponential free-flight distance along a direction from the receiver.
     Distance,
-    /// One-sample MIS (balance heuristic, probability 1/2 each) of OMNEE
-    /// restricted to forward scattering θ < min(θmax, π/2) and equiangular
-    /// over the whole θ < θmax, which covers backward scattering.
+    /// OMNEE over the integrand's whole range with equiangular sampling
+    /// behind the backward cone θ ≥ 3π/4 ([`MisMix`]): one-sample MIS that
+    /// covers backward scattering where OMNEE's weight grows.
     Mis,
 }
 
@@ -51,7 +51,7 @@ pub struct Choice {
 
 /// Resolves a technique name; `auto` picks from the phase function's mean
 /// cosine `g` and the optical thickness `tau = σt · distance` of a typical
-/// connection. The thresholds follow the measurements in MATH.md §6.
+/// connection ([`auto`]).
 pub fn choose(field: &str, name: &str, g: f64, tau: f64) -> Result<Choice> {
     let tech = match name {
         "omnee" => Tech::Omnee,
@@ -79,40 +79,82 @@ pub fn choose(field: &str, name: &str, g: f64, tau: f64) -> Result<Choice> {
     })
 }
 
-fn auto(g: f64, tau: f64) -> (Tech, String) {
+/// The optical thickness below which `auto` adds equiangular sampling
+/// behind the backward cone for broad phase functions.
+pub const AUTO_THIN: f64 = 0.2;
+
+/// `auto`: OMNEE over the whole range, unless the medium barely attenuates
+/// (`tau` < [`AUTO_THIN`]) and the phase function is not forward-peaked
+/// (`g` < 0.3); then [`Tech::Mis`]. OMNEE's weight θ/(s sin θ) is bounded by
+/// attenuation behind the cone (its variance grows like ln(1/τ) as τ → 0) and
+/// is near 1/s for a forward peak; equiangular sampling alone is never
+/// chosen, its variance is infinite for a point-like `x0` (the weight grows
+/// like 1/D as the ray passes `x0`).
+pub fn auto(g: f64, tau: f64) -> (Tech, String) {
     if g >= 0.3 {
         (
             Tech::Omnee,
             format!(
-                "the phase function is forward-peaked (mean cosine {g:.3} >= 0.3): OMNEE draws the deflection from it, \
-                 with 10^2 to 10^5 times less variance than equiangular sampling for g >= 0.9"
+                "the phase function is forward-peaked (mean cosine {g:.3} >= 0.3): OMNEE draws the deflection \
+                 from it, and its weight theta/(s sin theta) stays near 1/s"
             ),
         )
-    } else if g <= -0.3 {
-        (
-            Tech::Mis,
-            format!(
-                "the phase function is backward-peaked (mean cosine {g:.3} <= -0.3): OMNEE's weight grows like 1/(pi - theta) \
-                 there, so equiangular sampling covers the back and OMNEE the front"
-            ),
-        )
-    } else if tau >= 1.0 {
+    } else if tau >= AUTO_THIN {
         (
             Tech::Omnee,
             format!(
-                "the medium is optically thick along a typical connection (tau = {tau:.3} >= 1) and the phase function is \
-                 broad (mean cosine {g:.3}): attenuation keeps OMNEE's full-range weight small (relative variance 0.31 \
-                 against 163 for equiangular at tau = 1, g = 0)"
+                "the medium attenuates along a typical connection (tau = {tau:.3} >= {AUTO_THIN}): attenuation \
+                 bounds OMNEE's weight theta/(s sin theta) for backward deflections (mean cosine {g:.3})"
             ),
         )
     } else {
         (
             Tech::Mis,
             format!(
-                "the phase function is broad (mean cosine {g:.3}) and the medium optically thin (tau = {tau:.3} < 1): \
-                 neither OMNEE nor equiangular sampling dominates, so MIS combines them"
+                "the medium is optically thin (tau = {tau:.3} < {AUTO_THIN}) and the phase function not \
+                 forward-peaked (mean cosine {g:.3}): OMNEE's weight grows like 1/(pi - theta) unchecked, so \
+                 equiangular sampling joins it behind theta = 3 pi/4"
             ),
         )
+    }
+}
+
+/// The combination behind [`Tech::Mis`]: one-sample MIS (balance heuristic)
+/// of OMNEE over the integrand's whole range θ < θmax, chosen with probability
+/// `1 − share`, and equiangular sampling in the backward cone θ ≥ θmin,
+/// chosen with probability `share` ([`OmneeMis`]).
+///
+/// In front of the cone OMNEE alone carries the integral (its weight
+/// θ/(s sin θ) stays below 3.4/s there) and needs no second density; behind it
+/// the balance heuristic lets equiangular sampling take over where OMNEE's
+/// weight grows like 1/(π − θ).
+#[derive(Clone, Copy, Debug)]
+pub struct MisMix<F> {
+    /// The probability of choosing equiangular sampling.
+    pub share: F,
+    /// The edge θmin of the backward cone.
+    pub cone: Deflection<F>,
+}
+
+impl<F: Real> MisMix<F> {
+    /// Equiangular's share: small, since it only insures the cone behind
+    /// 3π/4 (measured on the slab at g = 0 and 0.5: 0.05 beats 0.1 and 0.2).
+    pub const SHARE: f64 = 0.05;
+    /// The cone's edge θmin = 3π/4, where OMNEE's weight is 3.3/s.
+    pub const THETA_MIN: f64 = 0.75 * std::f64::consts::PI;
+
+    /// The combination with [`Self::SHARE`] and [`Self::THETA_MIN`].
+    pub fn new() -> Self {
+        Self {
+            share: F::from_f64(Self::SHARE),
+            cone: Deflection::from_theta(F::from_f64(Self::THETA_MIN)),
+        }
+    }
+}
+
+impl<F: Real> Default for MisMix<F> {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -126,6 +168,8 @@ pub struct Setup<'p, F: Real, P> {
     pub region: Region<F>,
     /// Extinction σt (the free-flight coefficient of distance sampling).
     pub sigma_t: F,
+    /// The combination of [`Tech::Mis`].
+    pub mis: MisMix<F>,
 }
 
 impl<F: Real, P: PhaseFunction<F>> Setup<'_, F, P> {
@@ -145,19 +189,12 @@ impl<F: Real, P: PhaseFunction<F>> Setup<'_, F, P> {
             .ok()?
             .sample(u),
             Tech::Mis => {
-                let forward = Connection::new(
-                    connection.axis.x0,
-                    connection.axis.x2,
-                    connection.theta_max.min(F::FRAC_PI_2),
-                )
-                .ok()?;
-                let omnee = Omnee::new(forward, self.phase);
                 let equiangular = self.equiangular(connection);
-                let half = F::HALF;
-                OneSample::new(
-                    [&omnee as &dyn Technique<F>, &equiangular],
-                    [half, half],
-                    Heuristic::Balance,
+                OmneeMis::new(
+                    Omnee::new(connection, self.phase),
+                    &equiangular,
+                    self.mis.share,
+                    self.mis.cone,
                 )
                 .ok()?
                 .sample(u)

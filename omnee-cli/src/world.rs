@@ -7,7 +7,7 @@
 
 use crate::rng::Rng;
 use crate::scene::{Pattern, Scene};
-use crate::technique::{Setup, Tech};
+use crate::technique::{MisMix, Setup, Tech};
 use glam::Vec3;
 use omnee_core::medium::Region;
 use omnee_core::phase::{Deflection, Phase, PhaseFunction};
@@ -257,6 +257,8 @@ pub struct World<'a> {
     pub light: Light,
     /// The occluder.
     pub plate: Option<Plate>,
+    /// The combination of the `mis` technique.
+    mis: MisMix<f32>,
 }
 
 fn v3(a: [f64; 3]) -> Vec3 {
@@ -313,6 +315,7 @@ impl<'a> World<'a> {
                 opening: o.opening as f32,
                 albedo: v3(o.albedo),
             }),
+            mis: MisMix::new(),
         }
     }
 
@@ -548,14 +551,21 @@ impl<'a> World<'a> {
         let Ok(connection) = Connection::new(x0, p, how.theta_max) else {
             return 0.0;
         };
-        let Ok(directions) = Directions::cosine(n) else {
-            return 0.0;
+        // Ray techniques draw cosine-weighted directions about the normal.
+        let directions = if how.tech == Tech::Omnee {
+            Directions::Sphere
+        } else {
+            match Directions::cosine(n) {
+                Ok(d) => d,
+                Err(_) => return 0.0,
+            }
         };
         let setup = Setup {
             phase: &self.phase,
             directions,
             region: self.region,
             sigma_t: self.sigma_t,
+            mis: self.mis,
         };
         let sample = match setup.sample(how.tech, connection, u) {
             // The floor is opaque: nothing scatters below it.

@@ -865,9 +865,9 @@ fn estimate_does_not_depend_on_the_thread_count_and_auto_explains_itself() {
         "--x2",
         "0,0,1",
         "--sigma-s",
-        "0.2",
+        "0.08",
         "--sigma-t",
-        "0.25",
+        "0.1",
         "--samples",
         "50000",
     ];
