@@ -12,7 +12,7 @@ use crate::error::{CliError, Result, core_error};
 use crate::phase::{PhaseSpec, TableStorage};
 use crate::rng::Rng;
 use crate::scene::{Range, Scene};
-use crate::technique::{Choice, MisMix, Setup, choose};
+use crate::technique::{Choice, Setup, choose};
 use crate::world::{OnceMore, Stats, World};
 use omnee_core::medium::{Homogeneous, Region};
 use omnee_core::phase::PhaseFunction;
@@ -311,7 +311,6 @@ fn with_sampler<F: Real, T>(
         directions,
         region: Region::Everywhere,
         sigma_t: F::from_f64(a.sigma_t),
-        mis: MisMix::new(),
     };
     let tech = p.choice.tech;
     let draw = |rng: &mut Rng| -> Draw<F> {

@@ -5,7 +5,7 @@ use crate::error::{CliError, Result};
 use omnee_core::Real;
 use omnee_core::medium::Region;
 use omnee_core::mis::OmneeMis;
-use omnee_core::phase::{Deflection, PhaseFunction};
+use omnee_core::phase::PhaseFunction;
 use omnee_core::sampling::{
     Connection, Directions, Distance, Equiangular, Omnee, Sample, Technique,
 };
@@ -21,8 +21,9 @@ pub enum Tech {
     /// Exponential free-flight distance along a direction from the receiver.
     Distance,
     /// OMNEE over the integrand's whole range with equiangular sampling
-    /// behind the backward cone θ ≥ 3π/4 ([`MisMix`]): one-sample MIS that
-    /// covers backward scattering where OMNEE's weight grows.
+    /// behind the backward cone θ ≥ 3π/4, chosen with probability 0.05
+    /// ([`OmneeMis::recommended`]): one-sample MIS that covers backward
+    /// scattering where OMNEE's weight grows.
     Mis,
 }
 
@@ -119,45 +120,6 @@ pub fn auto(g: f64, tau: f64) -> (Tech, String) {
     }
 }
 
-/// The combination behind [`Tech::Mis`]: one-sample MIS (balance heuristic)
-/// of OMNEE over the integrand's whole range θ < θmax, chosen with probability
-/// `1 − share`, and equiangular sampling in the backward cone θ ≥ θmin,
-/// chosen with probability `share` ([`OmneeMis`]).
-///
-/// In front of the cone OMNEE alone carries the integral (its weight
-/// θ/(s sin θ) stays below 3.4/s there) and needs no second density; behind it
-/// the balance heuristic lets equiangular sampling take over where OMNEE's
-/// weight grows like 1/(π − θ).
-#[derive(Clone, Copy, Debug)]
-pub struct MisMix<F> {
-    /// The probability of choosing equiangular sampling.
-    pub share: F,
-    /// The edge θmin of the backward cone.
-    pub cone: Deflection<F>,
-}
-
-impl<F: Real> MisMix<F> {
-    /// Equiangular's share: small, since it only insures the cone behind
-    /// 3π/4 (measured on the slab at g = 0 and 0.5: 0.05 beats 0.1 and 0.2).
-    pub const SHARE: f64 = 0.05;
-    /// The cone's edge θmin = 3π/4, where OMNEE's weight is 3.3/s.
-    pub const THETA_MIN: f64 = 0.75 * std::f64::consts::PI;
-
-    /// The combination with [`Self::SHARE`] and [`Self::THETA_MIN`].
-    pub fn new() -> Self {
-        Self {
-            share: F::from_f64(Self::SHARE),
-            cone: Deflection::from_theta(F::from_f64(Self::THETA_MIN)),
-        }
-    }
-}
-
-impl<F: Real> Default for MisMix<F> {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
 /// Everything a technique needs besides the connection.
 pub struct Setup<'p, F: Real, P> {
     /// The phase function at `x1`.
@@ -168,8 +130,6 @@ pub struct Setup<'p, F: Real, P> {
     pub region: Region<F>,
     /// Extinction σt (the free-flight coefficient of distance sampling).
     pub sigma_t: F,
-    /// The combination of [`Tech::Mis`].
-    pub mis: MisMix<F>,
 }
 
 impl<F: Real, P: PhaseFunction<F>> Setup<'_, F, P> {
@@ -190,14 +150,7 @@ impl<F: Real, P: PhaseFunction<F>> Setup<'_, F, P> {
             .sample(u),
             Tech::Mis => {
                 let equiangular = self.equiangular(connection);
-                OmneeMis::new(
-                    Omnee::new(connection, self.phase),
-                    &equiangular,
-                    self.mis.share,
-                    self.mis.cone,
-                )
-                .ok()?
-                .sample(u)
+                OmneeMis::recommended(Omnee::new(connection, self.phase), &equiangular).sample(u)
             }
         }
     }

@@ -7,7 +7,7 @@
 
 use crate::rng::Rng;
 use crate::scene::{Pattern, Scene};
-use crate::technique::{MisMix, Setup, Tech};
+use crate::technique::{Setup, Tech};
 use glam::Vec3;
 use omnee_core::medium::Region;
 use omnee_core::phase::{Deflection, Phase, PhaseFunction};
@@ -257,8 +257,6 @@ pub struct World<'a> {
     pub light: Light,
     /// The occluder.
     pub plate: Option<Plate>,
-    /// The combination of the `mis` technique.
-    mis: MisMix<f32>,
 }
 
 fn v3(a: [f64; 3]) -> Vec3 {
@@ -315,7 +313,6 @@ impl<'a> World<'a> {
                 opening: o.opening as f32,
                 albedo: v3(o.albedo),
             }),
-            mis: MisMix::new(),
         }
     }
 
@@ -565,7 +562,6 @@ impl<'a> World<'a> {
             directions,
             region: self.region,
             sigma_t: self.sigma_t,
-            mis: self.mis,
         };
         let sample = match setup.sample(how.tech, connection, u) {
             // The floor is opaque: nothing scatters below it.

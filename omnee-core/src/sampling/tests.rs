@@ -677,5 +677,14 @@ fn omnee_mis_returns_its_density_and_the_kernel_over_it() {
             behind > 100 && from_companion > 100,
             "g {g}: {behind} {from_companion}"
         );
+        // The recommended combination is share 0.05 behind 3π/4.
+        type Mis<'a> = OmneeMis<'a, f64, HenyeyGreenstein<f64>>;
+        let recommended = OmneeMis::recommended(omnee, &equi);
+        let cone = Deflection::from_theta(Mis::THETA_MIN);
+        let spelled_out = OmneeMis::new(omnee, &equi, Mis::SHARE, cone).unwrap();
+        for _ in 0..2000 {
+            let u = uniform3(&mut rng);
+            assert_eq!(recommended.sample(u), spelled_out.sample(u), "g {g}: {u:?}");
+        }
     }
 }
