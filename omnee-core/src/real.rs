@@ -54,6 +54,8 @@ pub trait Real:
     const FRAC_1_4PI: Self;
     /// Machine epsilon (distance from 1 to the next larger number).
     const EPSILON: Self;
+    /// √ε, the scale below which a quantity squared is lost next to 1.
+    const SQRT_EPSILON: Self;
     /// Largest finite value.
     const MAX: Self;
     /// Smallest positive normal value.
@@ -201,6 +203,11 @@ macro_rules! impl_real {
             const FRAC_1_PI: Self = core::$f::consts::FRAC_1_PI;
             const FRAC_1_4PI: Self = (0.25 * core::f64::consts::FRAC_1_PI) as $f;
             const EPSILON: Self = $f::EPSILON;
+            // ε = 2^-23 (f32), 2^-52 (f64): √ε = 2^-11.5, 2^-26.
+            const SQRT_EPSILON: Self = match $f::MANTISSA_DIGITS {
+                24 => 3.452_669_830_012_439e-4 as $f,
+                _ => 1.490_116_119_384_765_6e-8 as $f,
+            };
             const MAX: Self = $f::MAX;
             const MIN_POSITIVE: Self = $f::MIN_POSITIVE;
             const INFINITY: Self = $f::INFINITY;
@@ -388,14 +395,14 @@ pub fn sinc_with_sin<F: Real>(x: F, sin_x: F) -> F {
 /// far under half an ulp of 1 (|x| below 1.9e-3 in f32, 1.2e-5 in f64).
 #[inline]
 pub fn sinc_is_series<F: Real>(x: F) -> bool {
-    x * x < F::from_f64(1e-2) * F::EPSILON.sqrt()
+    x * x < F::from_f64(1e-2) * F::SQRT_EPSILON
 }
 
 /// `1 − x²/6 + x⁴/120`.
 #[inline]
 fn sinc_series<F: Real>(x: F) -> F {
     let x2 = x * x;
-    F::ONE - x2 * (F::ONE / F::from_f64(6.0) - x2 / F::from_f64(120.0))
+    F::ONE - x2 * (F::from_f64(1.0 / 6.0) - x2 * F::from_f64(1.0 / 120.0))
 }
 
 #[cfg(test)]
@@ -416,6 +423,12 @@ mod tests {
             let e32 = ((x32 as f64).sin() / x32 as f64) as f32;
             assert!((sinc(x32) - e32).abs() <= 2.0 * f32::EPSILON, "x = {x}");
         }
+    }
+
+    #[test]
+    fn sqrt_epsilon_is_the_square_root_of_epsilon() {
+        assert_eq!(f32::SQRT_EPSILON, f32::EPSILON.sqrt());
+        assert_eq!(f64::SQRT_EPSILON, f64::EPSILON.sqrt());
     }
 
     #[test]
