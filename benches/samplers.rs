@@ -1,40 +1,45 @@
-//! Cost of one sample: nanoseconds per `sample` + `pdf` for every technique
-//! and phase function, in f32 and f64 (issue 4, item 1).
+//! Cost of one sample: nanoseconds per `sample` and per `pdf` for every
+//! technique and phase function, in f32 and f64, and the cost of one
+//! once-more connection of the slab renderer per technique (issue 4, item 1).
 //!
 //! What is measured, per criterion benchmark:
 //!
-//! - `technique/<f32|f64>/<technique>/<phase>`: a batch of [`BATCH`] uniform
-//!   triples (fixed, pseudo-random) is pushed through
-//!   `Technique::sample(u)` and, for every returned vertex, `Technique::pdf(x1)`
-//!   of the same technique (what MIS and a renderer's bookkeeping need). The
-//!   time per iteration divided by `BATCH` is the cost of one sample. The
-//!   connection is `x0 = (0, 0, 1)`, `x2 = 0` (s = 1) in an infinite medium,
-//!   θmax = π for the single techniques (no early rejection), and `mis` is the
-//!   CLI's one-sample MIS: OMNEE restricted to θ < π/2 and equiangular over
-//!   the whole range, chosen with probability ½ each, balance heuristic.
-//!   Equiangular and distance draw ray directions uniformly on the sphere;
-//!   distance sampling uses σ = 1.
-//! - `phase/<f32|f64>/<phase>`: the phase function alone, `sample(u)` then
-//!   `pdf` of the drawn deflection.
-//! - `connection/<f32|f64>/omnee-hg0.9`: a fresh connection per sample
-//!   (`Connection::new` for a moving `x0`, then OMNEE sample + pdf), the cost a
+//! - `sample/<f32|f64>/<technique>/<phase>`: a batch of [`BATCH`] uniform
+//!   triples (fixed, pseudo-random) through `Technique::sample(u)`, which
+//!   returns `x1` with its density and weight: what a renderer pays per
+//!   vertex. Time per iteration / `BATCH` is the cost of one sample.
+//! - `pdf/<f32|f64>/<technique>/<phase>`: `Technique::pdf(x1)` at the same
+//!   batch's vertices (precomputed), what MIS pays for the other techniques.
+//!
+//!   The connection is `x0 = (0, 0, 1)`, `x2 = 0` (s = 1) in an infinite
+//!   medium, θmax = π (no early rejection); equiangular and distance draw ray
+//!   directions uniformly on the sphere, distance sampling uses σ = 1, and
+//!   `mis` is the CLI's (`OmneeMis::recommended`: OMNEE, and equiangular
+//!   behind 3π/4 with probability 0.05).
+//! - `phase/<f32|f64>/<phase>`: the phase function alone, `sample_pdf(u)`.
+//! - `connection/f32/omnee-hg0.9`: a fresh connection per sample
+//!   (`Connection::new` for a moving `x0`, then an OMNEE sample), the cost a
 //!   renderer pays when every camera vertex connects to a new light point.
+//! - `slab/<technique>`: one call of `omnee_cli::world::World::once_more` on
+//!   the default scene (`omnee default-scene`) for 256 floor points: a light
+//!   point, the connection, the technique's vertex, closed-form
+//!   transmittance on both legs and the occluder tests.
 //!
 //! Time is the benchmark thread's CPU time (`CLOCK_THREAD_CPUTIME_ID`, the
 //! [`CpuTime`] measurement below), not wall time: the machine is shared, and
 //! a descheduled thread would otherwise be charged for other processes.
 //!
-//! Run: `cargo bench --bench samplers` (about 5 minutes; every benchmark has
+//! Run: `cargo bench --bench samplers` (about 10 minutes; every benchmark has
 //! 1 s warm-up, 2 s measurement and 30 samples, set below). A filter narrows
-//! it, e.g. `cargo bench --bench samplers -- 'technique/f32/.*/hg'`.
+//! it, e.g. `cargo bench --bench samplers -- 'sample/f32/.*/hg'`.
 //! `benches/summarize.py` turns criterion's estimates into the ns/sample
-//! table of `docs/benchmarks.md`.
+//! tables of `docs/benchmarks.md`.
 
 use cpu_time::ThreadTime;
 use criterion::measurement::{Measurement, ValueFormatter};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use omnee::medium::Region;
-use omnee::mis::{Heuristic, OneSample};
+use omnee::mis::OmneeMis;
 use omnee::phase::{
     Draine, FournierForand, HenyeyGreenstein, Isotropic, Mie, PhaseFunction, Rayleigh, TwoTermHg,
 };
@@ -123,15 +128,25 @@ fn uniforms<F: Real>() -> Vec<[F; 3]> {
     (0..BATCH).map(|_| [next(), next(), next()]).collect()
 }
 
-/// Pushes the batch through `sample` + `pdf`, returning a checksum so nothing
-/// is optimised away.
+/// Pushes the batch through `sample`, returning a checksum so nothing is
+/// optimised away.
 #[inline(never)]
-fn run<F: Real, T: Technique<F> + ?Sized>(t: &T, us: &[[F; 3]]) -> F {
+fn run_sample<F: Real, T: Technique<F> + ?Sized>(t: &T, us: &[[F; 3]]) -> F {
     let mut acc = F::ZERO;
     for &u in us {
         if let Some(s) = t.sample(black_box(u)) {
-            acc += s.weight + t.pdf(s.x1);
+            acc += s.weight + s.pdf + s.x1.x();
         }
+    }
+    acc
+}
+
+/// `pdf` at the given vertices.
+#[inline(never)]
+fn run_pdf<F: Real, T: Technique<F> + ?Sized>(t: &T, x1s: &[F::Vec3]) -> F {
+    let mut acc = F::ZERO;
+    for &x1 in x1s {
+        acc += t.pdf(black_box(x1));
     }
     acc
 }
@@ -146,36 +161,42 @@ fn techniques<F: Real, P: PhaseFunction<F> + Copy>(
     let x0 = F::Vec3::new(F::ZERO, F::ZERO, F::ONE);
     let x2 = F::Vec3::new(F::ZERO, F::ZERO, F::ZERO);
     let full = Connection::new(x0, x2, F::PI).unwrap();
-    let forward = Connection::new(x0, x2, F::FRAC_PI_2).unwrap();
     let us = uniforms::<F>();
 
     let omnee = Omnee::new(full, phase);
     let equiangular = Equiangular::new(full, phase, Directions::Sphere, Region::Everywhere);
     let distance =
         Distance::new(full, phase, Directions::Sphere, Region::Everywhere, F::ONE).unwrap();
-    let omnee_forward = Omnee::new(forward, phase);
-    let mis = OneSample::new(
-        [
-            &omnee_forward as &dyn Technique<F>,
-            &equiangular as &dyn Technique<F>,
-        ],
-        [F::HALF, F::HALF],
-        Heuristic::Balance,
-    )
-    .unwrap();
+    let mis = OmneeMis::recommended(omnee, &equiangular);
+    let all: [(&str, &dyn Technique<F>); 4] = [
+        ("omnee", &omnee),
+        ("equiangular", &equiangular),
+        ("distance", &distance),
+        ("mis", &mis),
+    ];
 
-    let mut group = c.benchmark_group(format!("technique/{precision}"));
+    let mut group = c.benchmark_group(format!("sample/{precision}"));
     group.throughput(Throughput::Elements(BATCH as u64));
-    group.bench_function(BenchmarkId::new("omnee", name), |b| {
-        b.iter(|| run(&omnee, &us))
-    });
-    group.bench_function(BenchmarkId::new("equiangular", name), |b| {
-        b.iter(|| run(&equiangular, &us))
-    });
-    group.bench_function(BenchmarkId::new("distance", name), |b| {
-        b.iter(|| run(&distance, &us))
-    });
-    group.bench_function(BenchmarkId::new("mis", name), |b| b.iter(|| run(&mis, &us)));
+    for (tech, t) in all {
+        group.bench_function(BenchmarkId::new(tech, name), |b| {
+            b.iter(|| run_sample(t, &us))
+        });
+    }
+    group.finish();
+
+    let mut group = c.benchmark_group(format!("pdf/{precision}"));
+    group.throughput(Throughput::Elements(BATCH as u64));
+    for (tech, t) in all {
+        let x1s: Vec<F::Vec3> = us
+            .iter()
+            .filter_map(|&u| t.sample(u))
+            .map(|s| s.x1)
+            .collect();
+        group.throughput(Throughput::Elements(x1s.len() as u64));
+        group.bench_function(BenchmarkId::new(tech, name), |b| {
+            b.iter(|| run_pdf(t, &x1s))
+        });
+    }
     group.finish();
 
     let mut group = c.benchmark_group(format!("phase/{precision}"));
@@ -184,8 +205,8 @@ fn techniques<F: Real, P: PhaseFunction<F> + Copy>(
         b.iter(|| {
             let mut acc = F::ZERO;
             for u in &us {
-                let d = phase.sample(black_box(u[0]));
-                acc += d.theta + phase.pdf(d);
+                let (d, pdf) = phase.sample_pdf(black_box(u[0]));
+                acc += d.theta + pdf;
             }
             acc
         })
@@ -193,7 +214,7 @@ fn techniques<F: Real, P: PhaseFunction<F> + Copy>(
     group.finish();
 }
 
-/// A new connection per sample: `Connection::new` + OMNEE sample + pdf.
+/// A new connection per sample: `Connection::new` + OMNEE sample.
 fn connection<F: Real>(c: &mut Criterion<CpuTime>, precision: &str) {
     let us = uniforms::<F>();
     let hg = HenyeyGreenstein::new(F::from_f64(0.9)).unwrap();
@@ -210,7 +231,7 @@ fn connection<F: Real>(c: &mut Criterion<CpuTime>, precision: &str) {
                 };
                 let t = Omnee::new(conn, hg);
                 if let Some(s) = t.sample(*u) {
-                    acc += s.weight + t.pdf(s.x1);
+                    acc += s.weight + s.pdf;
                 }
             }
             acc
@@ -244,9 +265,54 @@ fn all<F: Real>(c: &mut Criterion<CpuTime>, precision: &str) {
     connection::<F>(c, precision);
 }
 
+/// One once-more connection of the slab renderer, per technique: the cost of
+/// `World::once_more` at 256 floor points of the default scene.
+fn slab(c: &mut Criterion<CpuTime>) {
+    use omnee_cli::rng::Rng;
+    use omnee_cli::scene::Scene;
+    use omnee_cli::technique::Tech;
+    use omnee_cli::world::{OnceMore, Stats, World};
+    let scene = Scene::default_scene();
+    let mut storage = omnee_cli::phase::TableStorage::<f32>::default();
+    let phase = scene.medium.phase.instantiate::<f32>(&mut storage).unwrap();
+    let world = World::new(&scene, phase);
+    let points: Vec<glam::Vec3> = (0..BATCH)
+        .map(|i| {
+            glam::Vec3::new(
+                (i % 16) as f32 * 0.05 - 0.4,
+                (i / 16) as f32 * 0.05 - 0.4,
+                0.0,
+            )
+        })
+        .collect();
+    let mut group = c.benchmark_group("slab");
+    group.throughput(Throughput::Elements(BATCH as u64));
+    for tech in [Tech::Omnee, Tech::Equiangular, Tech::Distance, Tech::Mis] {
+        let how = OnceMore {
+            tech,
+            theta_max: std::f32::consts::PI,
+        };
+        let mut pass = 0u64;
+        group.bench_function(tech.name(), |b| {
+            b.iter(|| {
+                pass += 1;
+                let mut stats = Stats::default();
+                let mut acc = 0.0f32;
+                for (i, &p) in points.iter().enumerate() {
+                    let mut rng = Rng::stream(7, i as u64, pass);
+                    acc += world.once_more(p, glam::Vec3::Z, how, &mut rng, (0.0, 0.0), &mut stats);
+                }
+                acc
+            })
+        });
+    }
+    group.finish();
+}
+
 fn benches(c: &mut Criterion<CpuTime>) {
     all::<f32>(c, "f32");
     all::<f64>(c, "f64");
+    slab(c);
 }
 
 criterion_group! {
