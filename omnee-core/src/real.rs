@@ -189,7 +189,7 @@ pub trait Vector<F: Copy>:
 }
 
 macro_rules! impl_real {
-    ($f:ident, $vec:ty, $consts:ident, $libm_suffix:ident) => {
+    ($f:ident, $vec:ty, $consts:ident, $libm_suffix:ident, $sqrt_epsilon:expr) => {
         impl Real for $f {
             type Vec3 = $vec;
 
@@ -203,11 +203,7 @@ macro_rules! impl_real {
             const FRAC_1_PI: Self = core::$f::consts::FRAC_1_PI;
             const FRAC_1_4PI: Self = (0.25 * core::f64::consts::FRAC_1_PI) as $f;
             const EPSILON: Self = $f::EPSILON;
-            // ε = 2^-23 (f32), 2^-52 (f64): √ε = 2^-11.5, 2^-26.
-            const SQRT_EPSILON: Self = match $f::MANTISSA_DIGITS {
-                24 => 3.452_669_830_012_439e-4 as $f,
-                _ => 1.490_116_119_384_765_6e-8 as $f,
-            };
+            const SQRT_EPSILON: Self = $sqrt_epsilon;
             const MAX: Self = $f::MAX;
             const MIN_POSITIVE: Self = $f::MIN_POSITIVE;
             const INFINITY: Self = $f::INFINITY;
@@ -353,8 +349,9 @@ macro_rules! impl_real {
     };
 }
 
-impl_real!(f32, glam::Vec3, f32, f32);
-impl_real!(f64, glam::DVec3, f64, f64);
+// √ε: ε = 2^-23 (f32), 2^-52 (f64), so √ε = 2^-11.5, 2^-26.
+impl_real!(f32, glam::Vec3, f32, f32, 3.452_669_8e-4);
+impl_real!(f64, glam::DVec3, f64, f64, 1.490_116_119_384_765_6e-8);
 
 /// Converts a scalar between precisions (through f64, exact when widening).
 #[inline]
