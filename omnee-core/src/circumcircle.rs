@@ -185,64 +185,51 @@ impl<F: Real> Triangle<F> {
 
     /// Solves the triangle by the law of sines (MATH.md §2, §4),
     /// `d1 = s sin β / sin θ`, `d2 = s sin α / sin θ`, with
-    /// `sin θ = √((1 − cos θ)(1 + cos θ))` from the deflection's versines:
+    /// `sin θ = √((1 − cos θ)(1 + cos θ))` from the deflection's versines.
     ///
-    /// - for θ so small that `sin θ / θ` is its series (θ = 0 included), in
-    ///   `sinc` form, `d1 = s (β/θ) sinc β / sinc θ`, `d2 = s (α/θ) sinc α / sinc θ`
-    ///   (`d1 = (β/θ) s` at θ = 0);
-    /// - for θ > π/2, the sine of whichever of α, β exceeds π/2 comes from the
-    ///   other angle `x` by `sin(θ − x) = sin θ cos x + |cos θ| sin x` (two
-    ///   non-negative terms). Near θ = π the rounded θ has lost the digits of
-    ///   π − θ; these forms never use them.
+    /// Only the smaller angle `x` of α and β goes through `sin_cos`; the
+    /// larger one, θ − x, follows from the addition theorems
+    /// `sin(θ − x) = sin θ cos x − cos θ sin x` and
+    /// `cos(θ − x) = cos θ cos x + sin θ sin x`. For θ > π/2 both terms of the
+    /// sine are non-negative, so the angle near π keeps its digits even where
+    /// the rounded θ has lost those of π − θ; for θ ≤ π/2 the sine loses at
+    /// most log2(3) bits (θ − x ≥ θ/2). For θ so small that `sin θ / θ` is its
+    /// series (θ = 0 included) the lengths are in `sinc` form,
+    /// `d1 = s (β/θ) sinc β / sinc θ`, `d2 = s (α/θ) sinc α / sinc θ`
+    /// (`d1 = (β/θ) s` at θ = 0).
     ///
     /// `None` for θ ≥ π (the triangle does not close), `β/θ ∉ [0, 1]` or
     /// non-finite input.
     #[inline]
     pub fn solve(s: F, deflection: Deflection<F>, beta_ratio: F) -> Option<Self> {
-        let Deflection {
-            theta,
-            one_plus_cos,
-            ..
-        } = deflection;
+        let theta = deflection.theta;
         if !(theta >= F::ZERO
             && theta < F::PI
-            && one_plus_cos > F::ZERO
+            && deflection.one_plus_cos > F::ZERO
             && (F::ZERO..=F::ONE).contains(&beta_ratio))
         {
             return None;
         }
         let (beta, alpha) = (beta_ratio * theta, (F::ONE - beta_ratio) * theta);
-        let (sin_alpha, cos_alpha) = alpha.sin_cos();
-        let (d1, d2, sinc_theta, sin_alpha) = if sinc_is_series(theta) {
-            let sin_beta = beta.sin();
+        let (sin_theta, cos_theta) = (deflection.sin(), deflection.cos());
+        let beta_is_smaller = beta <= alpha;
+        let (sin_small, cos_small) = if beta_is_smaller { beta } else { alpha }.sin_cos();
+        let sin_large = sin_theta * cos_small - cos_theta * sin_small;
+        let cos_large = cos_theta * cos_small + sin_theta * sin_small;
+        let (sin_alpha, cos_alpha, sin_beta) = if beta_is_smaller {
+            (sin_large, cos_large, sin_small)
+        } else {
+            (sin_small, cos_small, sin_large)
+        };
+        let (d1, d2, sinc_theta) = if sinc_is_series(theta) {
             let sinc_theta = sinc(theta);
             let scale = s / sinc_theta;
             let d1 = scale * beta_ratio * sinc_with_sin(beta, sin_beta);
             let d2 = scale * (F::ONE - beta_ratio) * sinc_with_sin(alpha, sin_alpha);
-            (d1, d2, sinc_theta, sin_alpha)
+            (d1, d2, sinc_theta)
         } else {
-            let sin_theta = deflection.sin();
-            // −cos θ, positive exactly when θ > π/2, the only case where α or
-            // β can exceed π/2.
-            let minus_cos_theta = F::ONE - one_plus_cos;
-            let (sin_beta, sin_alpha) = if beta > F::FRAC_PI_2 {
-                (
-                    sin_theta * cos_alpha + minus_cos_theta * sin_alpha,
-                    sin_alpha,
-                )
-            } else if alpha > F::FRAC_PI_2 {
-                let (sin_beta, cos_beta) = beta.sin_cos();
-                (sin_beta, sin_theta * cos_beta + minus_cos_theta * sin_beta)
-            } else {
-                (beta.sin(), sin_alpha)
-            };
             let scale = s / sin_theta;
-            (
-                scale * sin_beta,
-                scale * sin_alpha,
-                sin_theta / theta,
-                sin_alpha,
-            )
+            (scale * sin_beta, scale * sin_alpha, sin_theta / theta)
         };
         (d1.is_finite() && d2.is_finite() && sinc_theta > F::ZERO).then_some(Self {
             d1,
