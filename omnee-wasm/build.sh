@@ -95,7 +95,7 @@ build_wasm() {
     log "cargo build --profile wasm-release --target wasm32-unknown-unknown"
     # The workspace's wasm-release profile (root Cargo.toml): LTO, one codegen
     # unit, panic = abort, no debug info; used by this build only.
-    (cd "$ROOT" && cargo build -p omnee-wasm --profile wasm-release --target wasm32-unknown-unknown)
+    (cd "$ROOT" && cargo build -p omnee-wasm --no-default-features --profile wasm-release --target wasm32-unknown-unknown)
     local raw
     raw="$(target_dir)/wasm32-unknown-unknown/wasm-release/omnee_wasm.wasm"
     rm -rf "$PKG"

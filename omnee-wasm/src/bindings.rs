@@ -2,6 +2,8 @@
 //! invalid input into a thrown `Error` (never a trap).
 
 use crate::demo::{self, Method, Problem};
+use alloc::string::String;
+use alloc::vec::Vec;
 use wasm_bindgen::prelude::*;
 
 #[wasm_bindgen(inline_js = "

@@ -9,6 +9,8 @@
 
 use crate::phase::{Analytic, Spec};
 use crate::rng::Pcg32;
+use alloc::vec;
+use alloc::vec::Vec;
 use omnee_core::Error;
 use omnee_core::circumcircle::{Angles, Axis, circumradius, fractional_distance, side_lengths};
 use omnee_core::medium::{Homogeneous, Region};

@@ -15,6 +15,9 @@
 //!
 //! Sampling runs in f32 (a renderer's precision), references in f64.
 #![forbid(unsafe_code)]
+#![cfg_attr(all(target_arch = "wasm32", not(feature = "std")), no_std)]
+
+extern crate alloc;
 
 pub mod bindings;
 pub mod demo;
@@ -22,3 +25,16 @@ pub mod phase;
 pub mod rng;
 
 pub use bindings::*;
+
+/// The module's allocator: a free list (lol_alloc) instead of std's dlmalloc.
+#[cfg(target_arch = "wasm32")]
+#[global_allocator]
+static ALLOCATOR: lol_alloc::LockedAllocator<lol_alloc::FreeListAllocator> =
+    lol_alloc::LockedAllocator::new(lol_alloc::FreeListAllocator::new());
+
+/// Without std (the demo's build): a panic stops the module with a trap.
+#[cfg(all(target_arch = "wasm32", not(feature = "std")))]
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    core::arch::wasm32::unreachable()
+}
