@@ -14,7 +14,7 @@ use alloc::vec::Vec;
 use omnee_core::Error;
 use omnee_core::circumcircle::{Angles, Axis, circumradius, fractional_distance, side_lengths};
 use omnee_core::medium::{Homogeneous, Region};
-use omnee_core::mis::{Heuristic, OneSample};
+use omnee_core::mis::OmneeMis;
 use omnee_core::phase::{Deflection, PhaseFunction};
 use omnee_core::real::{Real, Vector};
 use omnee_core::reference::PointToPoint;
@@ -51,8 +51,10 @@ pub enum Method {
     Omnee = 0,
     /// Equiangular sampling along uniformly distributed rays from `x2`.
     Equiangular = 1,
-    /// One-sample MIS (balance heuristic, ½ : ½) of OMNEE restricted to
-    /// θ < min(θmax, π/2) and equiangular.
+    /// The core's recommended one-sample MIS, [`OmneeMis::recommended`] (the
+    /// CLI's `mis`): OMNEE over the whole range θ < θmax, and equiangular
+    /// sampling with probability 0.05 behind the cone θ ≥ 3π/4 (balance
+    /// heuristic there, OMNEE alone in front of it).
     Mis = 2,
 }
 
@@ -136,7 +138,6 @@ fn widen(v: Vec3) -> DVec3 {
 pub struct Problem {
     phase: Analytic<S>,
     problem: PointToPoint<S>,
-    forward: Connection<S>,
     reference: f64,
     seed: u32,
     rngs: [Pcg32; 3],
@@ -161,7 +162,6 @@ impl Problem {
         let (phase, phase64) = (spec.build::<S>()?, spec.build::<f64>()?);
         let (a, b) = (plane_point(x0), plane_point(x2));
         let connection = Connection::<S>::new(a, b, S::from_f64(theta_max))?;
-        let forward = Connection::<S>::new(a, b, S::from_f64(theta_max).min(S::FRAC_PI_2))?;
         let medium = Homogeneous::<S>::new(S::from_f64(sigma_s), S::from_f64(sigma_a))?;
         let problem = PointToPoint::new(connection, medium, None)?;
         // The reference describes exactly the (rounded) problem sampled.
@@ -178,7 +178,6 @@ impl Problem {
         Ok(Self {
             phase,
             problem,
-            forward,
             reference,
             seed,
             rngs: Self::fresh_rngs(seed),
@@ -210,7 +209,7 @@ impl Problem {
     /// `&dyn Technique` (not one copy of `f` per technique): the dynamic call
     /// per sample costs little next to the sample, and each sampling loop is
     /// in the module once.
-    fn with<R>(&self, method: Method, f: impl FnOnce(&dyn Technique<S>) -> R) -> Result<R, Error> {
+    fn with<R>(&self, method: Method, f: impl FnOnce(&dyn Technique<S>) -> R) -> R {
         let connection = self.problem.connection;
         let omnee = NoInverse(Omnee::new(connection, &self.phase));
         let equiangular = NoInverse(Equiangular::new(
@@ -219,21 +218,16 @@ impl Problem {
             Directions::Sphere,
             Region::Everywhere,
         ));
-        let (forward, mis);
+        let mis;
         let technique: &dyn Technique<S> = match method {
             Method::Omnee => &omnee,
             Method::Equiangular => &equiangular,
             Method::Mis => {
-                forward = NoInverse(Omnee::new(self.forward, &self.phase));
-                mis = OneSample::new(
-                    [&forward as &dyn Technique<S>, &equiangular],
-                    [0.5, 0.5],
-                    Heuristic::Balance,
-                )?;
+                mis = OmneeMis::recommended(Omnee::new(connection, &self.phase), &equiangular);
                 &mis
             }
         };
-        Ok(f(technique))
+        f(technique)
     }
 
     /// Draws `n` more samples (1 ..= [`MAX_RUN`]) with each of the three
@@ -244,8 +238,7 @@ impl Problem {
         for method in Method::ALL {
             let i = method as usize;
             let (rng, stats) = (self.rngs[i], self.stats[i]);
-            let (rng, stats) =
-                self.with(method, |t| accumulate(t, &self.problem, rng, stats, n))?;
+            let (rng, stats) = self.with(method, |t| accumulate(t, &self.problem, rng, stats, n));
             self.rngs[i] = rng;
             self.stats[i] = stats;
         }
@@ -259,12 +252,12 @@ impl Problem {
     pub fn cloud(&self, method: Method, n: u32, seed: u32) -> Result<Vec<f32>, Error> {
         check_count("n", n, MAX_CLOUD, "[1, 1048576]")?;
         let rng = Pcg32::new(u64::from(seed), 16 + method as u64);
-        self.with(method, |t| cloud(t, &self.problem, rng, n))
+        Ok(self.with(method, |t| cloud(t, &self.problem, rng, n)))
     }
 }
 
 /// A technique without its inverse map, which the demo never uses: behind
-/// `&dyn Technique` (the demo's dispatch and [`OneSample`]'s) every trait
+/// `&dyn Technique` (the demo's dispatch and [`OmneeMis`]'s companion) every trait
 /// method is linked through the vtable, and OMNEE's and equiangular
 /// sampling's `invert` are 1.5 KiB of the module. Sampling and densities are
 /// the technique's own.
