@@ -3,7 +3,7 @@
 
 use super::{Connection, Directions, Sample, Technique, saturate};
 use crate::medium::Region;
-use crate::phase::PhaseFunction;
+use crate::phase::{Deflection, PhaseFunction};
 use crate::real::{Real, Vector};
 
 /// A direction ω from `x2` ([`Directions`]), then the distance `t` along
@@ -35,10 +35,12 @@ pub struct Equiangular<F: Real, P> {
 /// The ray `x2 + t ω` restricted to the medium segment `[t_a, t_b]`, relative
 /// to the foot of `x0`.
 #[derive(Clone, Copy, Debug)]
-struct Line<F> {
+struct Line<F: Real> {
     /// The segment `[t_a, t_b]` (t_b may be ∞).
     ta: F,
     tb: F,
+    /// `(x0 − x2) × ω`, of length `D`.
+    cross: F::Vec3,
     /// Distance of `x0` from the ray line.
     dist: F,
     /// Segment ends relative to the foot `Δ = (x0 − x2)·ω`: `a = t_a − Δ < b = t_b − Δ`.
@@ -54,7 +56,8 @@ impl<F: Real> Line<F> {
     fn new(x0: F::Vec3, x2: F::Vec3, omega: F::Vec3, (ta, tb): (F, F)) -> Option<Self> {
         let to_light = x0 - x2;
         let delta = to_light.dot(omega);
-        let dist = to_light.cross(omega).length();
+        let cross = to_light.cross(omega);
+        let dist = cross.length();
         let (a, b) = (ta - delta, tb - delta);
         let subtended = if b.is_finite() {
             (dist * (b - a)).atan2(dist * dist + a * b)
@@ -72,6 +75,7 @@ impl<F: Real> Line<F> {
         (c > F::ZERO && c.is_finite()).then_some(Self {
             ta,
             tb,
+            cross,
             dist,
             a,
             b,
@@ -80,35 +84,49 @@ impl<F: Real> Line<F> {
         })
     }
 
-    /// The distance `t` for `ξ`, `v = t − Δ = D tan(θ_a + ξ(θ_b − θ_a))`,
-    /// measured from the nearer end of the segment so that nothing cancels
-    /// (a vertex next to the receiver keeps its digits). By the tangent
-    /// addition formula, with `τ = tan(ξ(θ_b − θ_a))`, `τ' = tan((1 − ξ)(θ_b − θ_a))`:
+    /// The distance `t` for `ξ` and the offset `v = t − Δ` from the foot of
+    /// `x0`, `v = D tan(θ_a + ξ(θ_b − θ_a))`, each formed so that nothing
+    /// cancels: `t` from the nearer end of the segment (a vertex next to the
+    /// receiver keeps its digits) and `v` from the foot (a vertex next to the
+    /// light keeps its distance to it). By the tangent addition formula, with
+    /// `τ = tan(ξ(θ_b − θ_a))` and `τ' = tan((1 − ξ)(θ_b − θ_a))`:
     ///
-    /// `t − t_a = τ (D² + a²) / (D − a τ)` for ξ ≤ ½,
-    /// `t_b − t = τ' (D² + b²) / (D + b τ')` for ξ > ½ (`t = Δ + D/τ'` if `t_b = ∞`);
+    /// ξ ≤ ½: `t − t_a = τ (D² + a²) / (D − a τ)`, `v = D (a + D τ) / (D − a τ)`;
+    /// ξ > ½: `t_b − t = τ' (D² + b²) / (D + b τ')`, `v = D (b − D τ') / (D + b τ')`
+    /// (`v = D/τ'` if `t_b = ∞`);
     ///
-    /// for D = 0, `v = ab / (b + (a − b) ξ)`, i.e. `t − t_a = a (b − a) ξ / (b + (a − b) ξ)`.
-    fn distance(&self, xi: F) -> F {
+    /// for D = 0, `v = ab / (b + (a − b) ξ)` and `t − t_a = a (b − a) ξ / (b + (a − b) ξ)`.
+    fn distance(&self, xi: F) -> (F, F) {
         let (d, a, b) = (self.dist, self.a, self.b);
-        let t = if d > F::ZERO && self.subtended > F::ZERO {
+        let (t, v) = if d > F::ZERO && self.subtended > F::ZERO {
             if xi <= F::HALF {
                 let tau = (xi * self.subtended).tan();
-                self.ta + tau * (d * d + a * a) / (d - a * tau)
+                let den = d - a * tau;
+                (
+                    self.ta + tau * (d * d + a * a) / den,
+                    d * (a + d * tau) / den,
+                )
             } else {
                 let tau = ((F::ONE - xi) * self.subtended).tan();
                 if b.is_finite() {
-                    self.tb - tau * (d * d + b * b) / (d + b * tau)
+                    let den = d + b * tau;
+                    (
+                        self.tb - tau * (d * d + b * b) / den,
+                        d * (b - d * tau) / den,
+                    )
                 } else {
-                    (self.ta - a) + d / tau
+                    let v = d / tau;
+                    ((self.ta - a) + v, v)
                 }
             }
         } else if b.is_finite() {
-            self.ta + a * (b - a) * xi / (b + (a - b) * xi)
+            let den = b + (a - b) * xi;
+            (self.ta + a * (b - a) * xi / den, a * b / den)
         } else {
-            self.ta + a * xi / (F::ONE - xi)
+            let v = a / (F::ONE - xi);
+            (self.ta + a * xi / (F::ONE - xi), v)
         };
-        t.clamp_to(self.ta, self.tb)
+        (t.clamp_to(self.ta, self.tb), v.clamp_to(a, b))
     }
 
     /// The inverse of [`distance`](Self::distance), with `t − t_a` formed
@@ -157,18 +175,26 @@ impl<F: Real, P: PhaseFunction<F>> Equiangular<F, P> {
 }
 
 impl<F: Real, P: PhaseFunction<F>> Technique<F> for Equiangular<F, P> {
-    /// ω from `(u0, u1)`, then `t = Δ + v(u2)` on the medium segment.
+    /// ω from `(u0, u1)`, then `t` and `v = t − Δ` from `u2` on the medium
+    /// segment (tangent addition from the nearer end); `d1 = |v ω − (x0 − foot)|`, `d2 = t`.
     fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
         let axis = &self.connection.axis;
         let omega = self.directions.sample([u[0], u[1]]);
         let pdf_omega = self.directions.pdf(omega);
         let line = self.line(omega)?;
-        let t = line.distance(u[2]);
+        let (t, v) = line.distance(u[2]);
         if !(t > F::ZERO && t.is_finite() && pdf_omega > F::ZERO) {
             return None;
         }
         let x1 = axis.x2 + omega * t;
-        let (d, d1) = self.connection.deflection_along(omega, t)?;
+        // x1 − x0 = v ω − (x0 − foot), the perpendicular x0 − foot being
+        // ω × ((x0 − x2) × ω): no cancellation next to the light.
+        let from_x0 = omega * v - omega.cross(line.cross);
+        let d1 = from_x0.length();
+        if !(d1 > F::ZERO && d1.is_finite()) {
+            return None;
+        }
+        let d = Deflection::between_segments(from_x0, d1, -omega, F::ONE);
         let r = F::ONE / (d1 * t);
         let weight = if d.theta < self.connection.theta_max {
             saturate(self.phase.eval(d) / (pdf_omega * line.c))
