@@ -12,10 +12,9 @@
 //!   the attenuation, MATH.md §3);
 //! - `equiangular`: a uniform direction from `x2`, equiangular distance;
 //! - `distance`: a uniform direction from `x2`, free flight with σ = σt;
-//! - `mis`: the CLI's one-sample MIS, OMNEE on θ < π/2 and equiangular on
-//!   θ < π with probability ½ each, balance heuristic;
-//! - `mis-full`: not in the CLI, measured as a candidate: the same MIS with
-//!   OMNEE over the full range θ < π.
+//! - `mis`: the CLI's, `OmneeMis::recommended`: OMNEE over θ < π, and
+//!   equiangular behind the cone θ ≥ 3π/4 with probability 0.05 (balance
+//!   heuristic behind it, OMNEE alone in front).
 //!
 //! For each configuration (phase function × τ) and each technique, `REPS`
 //! independent runs of N = 2^8 … 2^`MAX` samples are timed on one thread
@@ -42,7 +41,7 @@ use common::{SplitMix, arg, docs_path, fmt3, median, seed};
 use cpu_time::ThreadTime;
 use glam::{DVec3, Vec3};
 use omnee::medium::{Homogeneous, Region};
-use omnee::mis::{Heuristic, OneSample};
+use omnee::mis::OmneeMis;
 use omnee::phase::{Phase, Spec};
 use omnee::reference::PointToPoint;
 use omnee::sampling::{Connection, Directions, Distance, Equiangular, Omnee, Technique};
@@ -63,9 +62,9 @@ const PHASES: [&str; 7] = [
 /// Optical thicknesses σt·s.
 const TAUS: [f64; 3] = [0.1, 1.0, 3.0];
 /// Technique names, in table order.
-const TECHS: [&str; NT] = ["omnee", "equiangular", "distance", "mis", "mis-full"];
+const TECHS: [&str; NT] = ["omnee", "equiangular", "distance", "mis"];
 /// Number of techniques.
-const NT: usize = 5;
+const NT: usize = 4;
 /// The single (non-MIS) techniques, for "best single technique".
 const SINGLE: [usize; 3] = [0, 1, 2];
 /// Plot colours per technique.
@@ -74,7 +73,6 @@ const COLORS: [RGBColor; NT] = [
     RGBColor(213, 94, 0),
     RGBColor(0, 158, 115),
     RGBColor(204, 121, 167),
-    RGBColor(120, 120, 120),
 ];
 /// Smallest sample count, log2.
 const MIN_LOG2: u32 = 8;
@@ -129,25 +127,21 @@ fn run<T: Technique<f32> + ?Sized>(
     (mean, var)
 }
 
-/// The four techniques for one configuration, called by index (static
-/// dispatch inside each arm).
+/// The techniques for one configuration, called by index (static dispatch
+/// inside each arm).
 struct Techniques<'a> {
     omnee: Omnee<f32, &'a Phase<'static, f32>>,
     equiangular: Equiangular<f32, &'a Phase<'static, f32>>,
     distance: Distance<f32, &'a Phase<'static, f32>>,
-    omnee_forward: Omnee<f32, &'a Phase<'static, f32>>,
 }
 
 impl<'a> Techniques<'a> {
     fn new(p: &'a Phase<'static, f32>, full: Connection<f32>, sigma_t: f32) -> Self {
-        let forward = Connection::new(full.axis.x0, full.axis.x2, std::f32::consts::FRAC_PI_2)
-            .expect("valid forward connection");
         Self {
             omnee: Omnee::new(full, p),
             equiangular: Equiangular::new(full, p, Directions::Sphere, Region::Everywhere),
             distance: Distance::new(full, p, Directions::Sphere, Region::Everywhere, sigma_t)
                 .unwrap(),
-            omnee_forward: Omnee::new(forward, p),
         }
     }
 
@@ -156,30 +150,12 @@ impl<'a> Techniques<'a> {
             0 => run(&self.omnee, p, n, rng),
             1 => run(&self.equiangular, p, n, rng),
             2 => run(&self.distance, p, n, rng),
-            3 => {
-                let mis = OneSample::new(
-                    [
-                        &self.omnee_forward as &dyn Technique<f32>,
-                        &self.equiangular as &dyn Technique<f32>,
-                    ],
-                    [0.5, 0.5],
-                    Heuristic::Balance,
-                )
-                .unwrap();
-                run(&mis, p, n, rng)
-            }
-            _ => {
-                let mis = OneSample::new(
-                    [
-                        &self.omnee as &dyn Technique<f32>,
-                        &self.equiangular as &dyn Technique<f32>,
-                    ],
-                    [0.5, 0.5],
-                    Heuristic::Balance,
-                )
-                .unwrap();
-                run(&mis, p, n, rng)
-            }
+            _ => run(
+                &OmneeMis::recommended(self.omnee, &self.equiangular),
+                p,
+                n,
+                rng,
+            ),
         }
     }
 }
@@ -444,7 +420,7 @@ fn main() {
     .unwrap();
     writeln!(
         md,
-        "| phase | σt·s | reference I | omnee | equiangular | distance | mis | mis-full | ns/sample omnee / eq. / dist. / mis / mis-full |\n|---|---|---|---|---|---|---|---|---|"
+        "| phase | σt·s | reference I | omnee | equiangular | distance | mis | ns/sample omnee / eq. / dist. / mis |\n|---|---|---|---|---|---|---|---|"
     )
     .unwrap();
     let mut eff_md = String::new();
@@ -454,7 +430,7 @@ fn main() {
          Efficiency is the median over N = 2^{EFF_LOG2} … 2^{max_log2} of 1/(relMSE·CPU seconds). \
          `÷ eq.`: relative to equiangular; `÷ best single`: relative to the best of omnee, equiangular, distance \
          other than itself.\n\n\
-         | phase | σt·s | omnee ÷ eq. | omnee ÷ best other single | distance ÷ eq. | mis ÷ eq. | mis ÷ best single | mis-full ÷ eq. | mis-full ÷ best single |\n|---|---|---|---|---|---|---|---|---|"
+         | phase | σt·s | omnee ÷ eq. | omnee ÷ best other single | distance ÷ eq. | mis ÷ eq. | mis ÷ best single |\n|---|---|---|---|---|---|---|"
     )
     .unwrap();
     let mut json = Vec::new();
@@ -473,7 +449,7 @@ fn main() {
         };
         writeln!(
             md,
-            "| `{}` | {} | {:.5e} | {} | {} | {} | {} | {} | {:.0} / {:.0} / {:.0} / {:.0} / {:.0} |",
+            "| `{}` | {} | {:.5e} | {} | {} | {} | {} | {:.0} / {:.0} / {:.0} / {:.0} |",
             row.spec,
             row.tau,
             row.reference,
@@ -481,17 +457,15 @@ fn main() {
             fmt3(row.curves[1].at_time(budget)),
             fmt3(row.curves[2].at_time(budget)),
             fmt3(row.curves[3].at_time(budget)),
-            fmt3(row.curves[4].at_time(budget)),
             ns(0),
             ns(1),
             ns(2),
             ns(3),
-            ns(4),
         )
         .unwrap();
         writeln!(
             eff_md,
-            "| `{}` | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| `{}` | {} | {} | {} | {} | {} | {} |",
             row.spec,
             row.tau,
             fmt3(eff[0] / eff[1]),
@@ -499,8 +473,6 @@ fn main() {
             fmt3(eff[2] / eff[1]),
             fmt3(eff[3] / eff[1]),
             fmt3(eff[3] / best_single(3)),
-            fmt3(eff[4] / eff[1]),
-            fmt3(eff[4] / best_single(4)),
         )
         .unwrap();
         let curves: Vec<serde_json::Value> = row
