@@ -688,3 +688,28 @@ fn omnee_mis_returns_its_density_and_the_kernel_over_it() {
         }
     }
 }
+
+#[test]
+fn equiangular_keeps_its_f32_digits_when_the_ray_grazes_the_light() {
+    // x0 1e-5 off the +z ray from x2 at s = 100 (1e-7 rad): the sampled
+    // vertex lies 1e-5 from x0 where t ≈ 100 carries only 8e-6 absolute
+    // precision in f32, so d1 must come from the offset to the foot of x0.
+    use glam::Vec3;
+    let (x0, x2) = (
+        Vec3::new(25.00001, -50.0, 112.5),
+        Vec3::new(25.0, -50.0, 12.5),
+    );
+    let pi = core::f32::consts::PI;
+    let c32 = Connection::new(x0, x2, pi).unwrap();
+    let c64 = Connection::new(x0.as_dvec3(), x2.as_dvec3(), core::f64::consts::PI).unwrap();
+    let e32 = Equiangular::new(c32, Isotropic, Directions::Sphere, Region::Everywhere);
+    let e64 = Equiangular::new(c64, Isotropic, Directions::Sphere, Region::Everywhere);
+    let mut us = std::vec::Vec::new();
+    for i in 0..64 {
+        // u0 = 0: the ray along +z, exactly.
+        us.push([0.0, (i as f32 + 0.5) / 64.0, (i as f32 + 0.25) / 64.0]);
+    }
+    let (pdf, weight) = f32_vs_f64_at(&e32, &e64, &us);
+    std::println!("grazing ray: pdf {pdf:.1e}, weight {weight:.1e}");
+    assert!(pdf < 1e-5 && weight < 1e-5, "{pdf:e} {weight:e}");
+}
