@@ -3,6 +3,12 @@
 //! `no_std` and allocation-free: bisection recurses on the stack to a fixed
 //! depth. Integrands with a known narrow feature (a forward peak at θ = 0)
 //! should be split there by the caller, e.g. with [`integrate_geometric`].
+//!
+//! The public functions are generic over the integrand, but the work is done
+//! by private functions that call it through `&mut dyn FnMut(f64) -> f64`:
+//! one copy of the adaptive bisection in a binary instead of one per
+//! integrand (the browser demo's module had six), for the price of an
+//! indirect call per evaluation.
 
 /// Nodes of the 15-point Kronrod rule on [−1, 1] (non-negative half).
 const XGK: [f64; 8] = [
@@ -34,8 +40,11 @@ const WG: [f64; 4] = [
     0.417_959_183_673_469_4,
 ];
 
+/// An integrand as the private functions take it.
+type Integrand<'a> = &'a mut dyn FnMut(f64) -> f64;
+
 /// One G7–K15 panel: `(Kronrod estimate, |Kronrod − Gauss|)` of `∫_a^b f`.
-fn gauss_kronrod<G: FnMut(f64) -> f64>(f: &mut G, a: f64, b: f64) -> (f64, f64) {
+fn gauss_kronrod(f: Integrand<'_>, a: f64, b: f64) -> (f64, f64) {
     let (c, h) = (0.5 * (a + b), 0.5 * (b - a));
     let fc = f(c);
     let (mut kronrod, mut gauss) = (WGK[7] * fc, WG[3] * fc);
@@ -49,14 +58,7 @@ fn gauss_kronrod<G: FnMut(f64) -> f64>(f: &mut G, a: f64, b: f64) -> (f64, f64) 
     (kronrod * h, ((kronrod - gauss) * h).abs())
 }
 
-fn adapt<G: FnMut(f64) -> f64>(
-    f: &mut G,
-    a: f64,
-    b: f64,
-    whole: (f64, f64),
-    tol: f64,
-    depth: u32,
-) -> f64 {
+fn adapt(f: Integrand<'_>, a: f64, b: f64, whole: (f64, f64), tol: f64, depth: u32) -> f64 {
     let (estimate, error) = whole;
     // Below ~100 ulp of the panel's value the error estimate is round-off, and
     // halving the tolerance further would only bisect noise.
@@ -79,12 +81,17 @@ pub fn integrate<G: FnMut(f64) -> f64>(
     rel_tol: f64,
     abs_tol: f64,
 ) -> f64 {
+    integrate_dyn(&mut f, a, b, rel_tol, abs_tol)
+}
+
+/// [`integrate`] through a `dyn` integrand.
+fn integrate_dyn(f: Integrand<'_>, a: f64, b: f64, rel_tol: f64, abs_tol: f64) -> f64 {
     if a == b {
         return 0.0;
     }
-    let whole = gauss_kronrod(&mut f, a, b);
+    let whole = gauss_kronrod(f, a, b);
     let tol = abs_tol.max(rel_tol * whole.0.abs());
-    adapt(&mut f, a, b, whole, tol, 40)
+    adapt(f, a, b, whole, tol, 40)
 }
 
 /// `∫_a^b f(x) dx` with panels split geometrically towards `a`:
@@ -103,6 +110,11 @@ pub fn integrate_geometric<G: FnMut(f64) -> f64>(
     levels: u32,
     rel_tol: f64,
 ) -> f64 {
+    geometric_dyn(&mut f, a, b, levels, rel_tol)
+}
+
+/// [`integrate_geometric`] through a `dyn` integrand.
+fn geometric_dyn(f: Integrand<'_>, a: f64, b: f64, levels: u32, rel_tol: f64) -> f64 {
     let mut panels = [(0.0, 0.0); 64];
     let mut count = 0;
     let mut width = (b - a) / (1u64 << levels.min(62)) as f64;
@@ -122,12 +134,12 @@ pub fn integrate_geometric<G: FnMut(f64) -> f64>(
     }
     let coarse: f64 = panels[..count]
         .iter()
-        .map(|&(lo, hi)| gauss_kronrod(&mut f, lo, hi).0.abs())
+        .map(|&(lo, hi)| gauss_kronrod(f, lo, hi).0.abs())
         .sum();
     let abs_tol = rel_tol * coarse / count as f64;
     panels[..count]
         .iter()
-        .map(|&(lo, hi)| integrate(&mut f, lo, hi, rel_tol, abs_tol))
+        .map(|&(lo, hi)| integrate_dyn(f, lo, hi, rel_tol, abs_tol))
         .sum()
 }
 
