@@ -5,10 +5,10 @@
 //! `cargo build --release -p omnee-cli && cargo bench --bench slab_time_vs_error`
 //! (or pass `-- --omnee PATH`). Options: `--resolution WxH` (default
 //! 160x120), `--max-log2 K` (spp 1 … 2^K, default 7), `--reference-spp N`
-//! (default 512, rendered twice), `--only NAME` (one variant), `--crops`
+//! (default 4096, rendered twice), `--only NAME` (one variant), `--crops`
 //! (also the equal-time image comparison of the default scene: the centre
 //! 240x180 window of the 480x360 image, `--crop-budget S` CPU seconds per
-//! technique, default 1, reference `--crop-reference-spp` twice, default 512).
+//! technique, default 1, reference `--crop-reference-spp` twice, default 2048).
 //!
 //! Variants: the default scene (`omnee default-scene`: water-like slab,
 //! HG g = 0.98, σs = 0.5, σa = 0.05, light 0.95 m above the floor, so
@@ -374,7 +374,7 @@ fn crops(
     md: &mut String,
 ) {
     let budget: f64 = arg("--crop-budget", 1.0);
-    let reference_spp: u32 = arg("--crop-reference-spp", 512);
+    let reference_spp: u32 = arg("--crop-reference-spp", 2048);
     let win = [120usize, 90, 360, 270];
     let crop = format!("{},{},{},{}", win[0], win[1], win[2], win[3]);
     let extra = ["--crop", crop.as_str()];
@@ -468,7 +468,7 @@ fn main() {
     }
     let resolution: String = arg("--resolution", "160x120".to_string());
     let max_log2: u32 = arg("--max-log2", 7);
-    let reference_spp: u32 = arg("--reference-spp", 512);
+    let reference_spp: u32 = arg("--reference-spp", 4096);
     let only: String = arg("--only", String::new());
     let threads: usize = arg("--threads", 2);
     let dir = std::env::temp_dir().join(format!("omnee-slab-bench-{}", std::process::id()));
