@@ -1,21 +1,19 @@
-//! A small counter-seeded random number generator.
-//!
-//! Every pixel sample and every chunk of probe samples draws from its own
-//! stream, seeded by hashing `(seed, index, pass)`, so results depend on the
-//! seed and never on the thread count or the order threads run in.
+//! Random streams: one PCG generator (`rand_pcg::Pcg64Mcg`) per pixel sample
+//! and per chunk of probe samples, seeded by hashing `(seed, index, pass)`,
+//! so results depend on the seed and never on the thread count or the order
+//! threads run in.
 
 use omnee_core::Real;
+use rand_core::SeedableRng;
+use rand_pcg::Pcg64Mcg;
 
-/// SplitMix64 (Steele, Lea, Flood 2014): a 64-bit state advanced by a Weyl
-/// sequence and finalised by a strong mixer; passes BigCrush per stream.
+/// A generator for one stream; uniform numbers through
+/// [`omnee_core::sampling::uniform`], as every sampler of the core draws them.
 #[derive(Clone, Debug)]
-pub struct Rng {
-    state: u64,
-}
+pub struct Rng(Pcg64Mcg);
 
-const GOLDEN: u64 = 0x9e37_79b9_7f4a_7c15;
-
-/// The SplitMix64 finaliser (a bijection on u64 with full avalanche).
+/// The SplitMix64 finaliser (Steele, Lea, Flood 2014): a bijection on u64
+/// with full avalanche, to hash the stream's coordinates into one seed.
 #[inline]
 fn mix(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
@@ -24,30 +22,20 @@ fn mix(mut z: u64) -> u64 {
 }
 
 impl Rng {
-    /// The stream for `(seed, index, pass)`; distinct triples give
-    /// independent-looking streams.
+    /// The stream for `(seed, index, pass)`: the three hashed in turn into
+    /// the 64-bit seed that `SeedableRng::seed_from_u64` expands to the
+    /// generator's 128-bit state; distinct triples give independent streams.
     pub fn stream(seed: u64, index: u64, pass: u64) -> Self {
         let a = mix(seed ^ 0x6a09_e667_f3bc_c908);
-        let b = mix(a ^ index.wrapping_mul(GOLDEN));
-        Self {
-            state: mix(b ^ pass.wrapping_mul(0xd1b5_4a32_d192_ed03)),
-        }
+        let b = mix(a ^ index.wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        let c = mix(b ^ pass.wrapping_mul(0xd1b5_4a32_d192_ed03));
+        Rng(Pcg64Mcg::seed_from_u64(c))
     }
 
-    /// The next 64 random bits.
-    #[inline]
-    pub fn next_u64(&mut self) -> u64 {
-        self.state = self.state.wrapping_add(GOLDEN);
-        mix(self.state)
-    }
-
-    /// A uniform number in `[0, 1)` with the precision's mantissa bits, like
-    /// `omnee_core::sampling::uniform`.
+    /// A uniform number in `[0, 1)` with the precision's mantissa bits.
     #[inline]
     pub fn uniform<F: Real>(&mut self) -> F {
-        let bits = if F::EPSILON.to_f64() < 1e-10 { 53 } else { 24 };
-        let x = (self.next_u64() >> (64 - bits)) as f64;
-        F::from_f64(x * (-(bits as f64)).exp2())
+        omnee_core::sampling::uniform(&mut self.0)
     }
 
     /// Three uniform numbers.
@@ -77,15 +65,10 @@ mod tests {
 
     #[test]
     fn streams_differ_and_repeat() {
-        let a: Vec<u64> = (0..4).map(|_| Rng::stream(1, 2, 3).next_u64()).collect();
-        assert!(a.iter().all(|&x| x == a[0]));
-        assert_ne!(
-            Rng::stream(1, 2, 3).next_u64(),
-            Rng::stream(1, 3, 2).next_u64()
-        );
-        assert_ne!(
-            Rng::stream(1, 2, 3).next_u64(),
-            Rng::stream(2, 2, 3).next_u64()
-        );
+        let first = |s: u64, i: u64, p: u64| Rng::stream(s, i, p).uniform::<f64>();
+        assert_eq!(first(1, 2, 3), first(1, 2, 3));
+        assert_ne!(first(1, 2, 3), first(1, 3, 2));
+        assert_ne!(first(1, 2, 3), first(2, 2, 3));
+        assert_ne!(first(1, 2, 3), first(1, 2, 4));
     }
 }
