@@ -54,32 +54,27 @@ fn parent(path: &Path) -> PathBuf {
     }
 }
 
-/// Writes `path` through a temporary file in the same folder, renamed over
-/// `path` only once `write` has succeeded and the data is flushed: an
-/// existing `path` is either left as it was or replaced whole.
+/// Writes `path` through a temporary file in the same folder (`tempfile`),
+/// renamed over `path` only once `write` has succeeded and the data is
+/// flushed and synced: an existing `path` is either left as it was or
+/// replaced whole, and a failed write leaves no temporary file behind.
 pub fn write_atomic(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
 ) -> Result<()> {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "out".into());
-    let tmp = parent(path).join(format!(".{name}.{}.tmp", std::process::id()));
     let io = |e: std::io::Error| CliError::Io(format!("cannot write {}: {e}", path.display()));
-    let result = (|| {
-        let file = File::create(&tmp)?;
-        let mut w = BufWriter::new(file);
-        write(&mut w)?;
-        w.flush()?;
-        w.get_ref().sync_all()?;
-        drop(w);
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result.map_err(io)
+    let tmp = tempfile::Builder::new()
+        .prefix(".omnee-")
+        .suffix(".tmp")
+        .tempfile_in(parent(path))
+        .map_err(io)?;
+    let (file, tmp_path) = tmp.into_parts();
+    let mut w = BufWriter::new(file);
+    write(&mut w).map_err(io)?;
+    w.flush().map_err(io)?;
+    w.get_ref().sync_all().map_err(io)?;
+    drop(w);
+    tmp_path.persist(path).map_err(|e| io(e.error))
 }
 
 /// Writes the layers as a single-part OpenEXR file with 32-bit float
