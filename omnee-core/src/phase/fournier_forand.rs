@@ -33,6 +33,13 @@ use crate::real::Real;
 pub struct FournierForand<F> {
     b: F,
     n: F,
+    shape: Shape,
+}
+
+/// The f64 parameters and formulas of [`FournierForand`], not generic over
+/// the precision of the API: a program using both precisions has one copy.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Shape {
     /// `a = −ν ∈ (0, 1)`.
     a: f64,
     delta90: f64,
@@ -70,24 +77,11 @@ impl<F: Real> FournierForand<F> {
     /// computed here once, `⟨cos θ⟩ = 1 − ∫₀² P(Θ > θ) d(1 − cos θ)`, by adaptive
     /// Gauss–Kronrod with panels refined geometrically towards θ = 0.
     pub fn new(backscatter: F, n: F) -> Result<Self, Error> {
-        check_open("backscatter", backscatter.to_f64(), 0.0, 0.5, "(0, 0.5)")?;
-        check_closed("n", n.to_f64(), FF_N_MIN, FF_N_MAX, "[1.001, 1.5]")?;
-        let (b, n64) = (backscatter.to_f64(), n.to_f64());
-        let delta90 = 2.0 / (3.0 * (n64 - 1.0) * (n64 - 1.0));
-        let a = libm::log1p(2.0 * b * (delta90 - 1.0)) / libm::log(delta90);
-        let d180 = 2.0 * delta90;
-        let k = libm::expm1(a * libm::log(d180)) / (d180 - 1.0);
-        let mut ff = Self {
+        Ok(Self {
             b: backscatter,
             n,
-            a,
-            delta90,
-            k,
-            mean: 0.0,
-        };
-        let tail = integrate_geometric(|x| ff.ccdf64(x, 2.0 - x), 0.0, 2.0, 60, 1e-13);
-        ff.mean = 1.0 - tail;
-        Ok(ff)
+            shape: Shape::new(backscatter.to_f64(), n.to_f64())?,
+        })
     }
 
     /// The backscatter fraction B.
@@ -105,13 +99,35 @@ impl<F: Real> FournierForand<F> {
     /// The derived exponent `ν = (3 − μ_J)/2 ∈ (−1, 0)`.
     #[inline]
     pub fn nu(&self) -> f64 {
-        -self.a
+        -self.shape.a
     }
 
     /// The Junge slope `μ_J = 3 − 2ν`.
     #[inline]
     pub fn junge_slope(&self) -> f64 {
-        3.0 + 2.0 * self.a
+        3.0 + 2.0 * self.shape.a
+    }
+}
+
+impl Shape {
+    /// The parameters for `B = b`, `n` (see [`FournierForand::new`]), with the
+    /// mean cosine by quadrature.
+    fn new(b: f64, n: f64) -> Result<Self, Error> {
+        check_open("backscatter", b, 0.0, 0.5, "(0, 0.5)")?;
+        check_closed("n", n, FF_N_MIN, FF_N_MAX, "[1.001, 1.5]")?;
+        let delta90 = 2.0 / (3.0 * (n - 1.0) * (n - 1.0));
+        let a = libm::log1p(2.0 * b * (delta90 - 1.0)) / libm::log(delta90);
+        let d180 = 2.0 * delta90;
+        let k = libm::expm1(a * libm::log(d180)) / (d180 - 1.0);
+        let mut shape = Self {
+            a,
+            delta90,
+            k,
+            mean: 0.0,
+        };
+        let tail = integrate_geometric(|x| shape.ccdf64(x, 2.0 - x), 0.0, 2.0, 60, 1e-13);
+        shape.mean = 1.0 - tail;
+        Ok(shape)
     }
 
     /// `φ(δ) = (δ^{−ν} − 1)/(1 − δ) = expm1(−ν ln δ)/(1 − δ)` (limit ν at δ = 1);
@@ -179,7 +195,7 @@ impl<F: Real> PhaseFunction<F> for FournierForand<F> {
     fn eval(&self, d: Deflection<F>) -> F {
         let x = d.one_minus_cos.to_f64().max(F::MIN_POSITIVE.to_f64());
         let y = d.one_plus_cos.to_f64();
-        let p = self.dens64(x, y) * 0.5 * core::f64::consts::FRAC_1_PI;
+        let p = self.shape.dens64(x, y) * 0.5 * core::f64::consts::FRAC_1_PI;
         F::from_f64(p.max(0.0)).min(F::MAX)
     }
 
@@ -188,18 +204,18 @@ impl<F: Real> PhaseFunction<F> for FournierForand<F> {
     /// asymptote `δ = u^{1/(−ν)}`; converged to a few f64 ulps of the root.
     fn sample(&self, u: F) -> Deflection<F> {
         let u64 = u.to_f64();
-        let delta0 = libm::pow(u64, 1.0 / self.a);
+        let delta0 = libm::pow(u64, 1.0 / self.shape.a);
         let guess = if delta0 < 0.5 {
-            delta0 / self.delta90
+            delta0 / self.shape.delta90
         } else {
             -1.0
         };
         let (x, y) = invert_cdf(
             u64,
             guess,
-            |x, y| self.cdf64(x, y),
-            |x, y| self.ccdf64(x, y),
-            |x, y| self.dens64(x, y),
+            |x, y| self.shape.cdf64(x, y),
+            |x, y| self.shape.ccdf64(x, y),
+            |x, y| self.shape.dens64(x, y),
         );
         Deflection::from_versines(F::from_f64(x), F::from_f64(y))
     }
@@ -209,18 +225,21 @@ impl<F: Real> PhaseFunction<F> for FournierForand<F> {
     /// rewritten: the bracket form for δ < ½, and `1 − P(Θ > θ)` with
     /// `P(Θ > θ) = −(1 − s) φ(δ) − (K/8) μ(1 − μ)(1 + μ)` otherwise.
     fn cdf(&self, d: Deflection<F>) -> F {
-        F::from_f64(self.cdf64(d.one_minus_cos.to_f64(), d.one_plus_cos.to_f64()))
+        F::from_f64(
+            self.shape
+                .cdf64(d.one_minus_cos.to_f64(), d.one_plus_cos.to_f64()),
+        )
     }
 
     /// `⟨cos θ⟩`, integrated at construction (see [`FournierForand::new`]).
     fn mean_cosine(&self) -> F {
-        F::from_f64(self.mean)
+        F::from_f64(self.shape.mean)
     }
 
     /// `B`, from `P(Θ > π/2) = −φ(δ₉₀)/2`, the definition of ν (equal to the
     /// parameter up to rounding).
     fn backscatter_fraction(&self) -> F {
-        F::from_f64(self.ccdf64(1.0, 1.0))
+        F::from_f64(self.shape.ccdf64(1.0, 1.0))
     }
 }
 
@@ -241,7 +260,7 @@ mod tests {
     /// `2π ∫_0^θ h(θ') p sin θ' dθ'` with `θ' = θ v^{1/a}`: the substitution
     /// turns the `θ^{−1−2ν}` singularity of `p sin θ` into a smooth integrand.
     fn mass_to(p: &FournierForand<f64>, theta: f64, h: impl Fn(f64) -> f64) -> f64 {
-        let k = 1.0 / p.a;
+        let k = 1.0 / p.shape.a;
         TAU * integrate_geometric(
             |v| {
                 if v == 0.0 {
@@ -314,20 +333,20 @@ mod tests {
         let nu = p.nu();
         // REFERENCE's eval, valid away from δ = 1.
         let textbook = |x: f64| {
-            let delta = p.delta90 * x;
+            let delta = p.shape.delta90 * x;
             let s = 0.5 * x;
             let dn = libm::pow(delta, nu);
             let mu = 1.0 - x;
             ((nu * (1.0 - delta) - (1.0 - dn) + (delta * (1.0 - dn) - nu * (1.0 - delta)) / s)
                 / (4.0 * core::f64::consts::PI * (1.0 - delta) * (1.0 - delta) * dn))
-                + p.k / (16.0 * core::f64::consts::PI) * (3.0 * mu * mu - 1.0)
+                + p.shape.k / (16.0 * core::f64::consts::PI) * (3.0 * mu * mu - 1.0)
         };
         for x in [1e-9, 1e-5, 1e-3, 0.05, 0.3, 1.0, 1.7, 2.0] {
             let ours = p.eval(Deflection::from_one_minus_cos(x));
             assert!((ours / textbook(x) - 1.0).abs() < 1e-10, "x = {x}");
         }
         // Across δ = 1 the value is smooth: compare with the chord midpoint.
-        let x1 = 1.0 / p.delta90;
+        let x1 = 1.0 / p.shape.delta90;
         let at = |x: f64| p.eval(Deflection::from_one_minus_cos(x));
         for h in [1e-12, 1e-9, 1e-6] {
             let mid = 0.5 * (at(x1 * (1.0 - h)) + at(x1 * (1.0 + h)));
