@@ -604,11 +604,11 @@ impl<'a> World<'a> {
 
     /// One-sample estimate of single scattering along the camera ray
     /// `o + t d`, `t ∈ (0, t_end)`. A point light: the distance by
-    /// [`view_sample`] (equiangular about the light, Kulla & Fajardo 2012, in
+    /// `view_sample` (equiangular about the light, Kulla & Fajardo 2012, in
     /// MIS with phase-function sampling of the same angle). A sphere: one-sample
     /// MIS of (A) the distance about the centre, then a point of the light
     /// uniform in solid angle, and (B) a point of the light first
-    /// ([`World::view_origin`]), then the distance about it.
+    /// (`World::view_origin`), then the distance about it.
     pub fn view(
         &self,
         o: Vec3,
