@@ -9,13 +9,86 @@ use wasm_bindgen::prelude::*;
 #[wasm_bindgen(inline_js = "
 export function error(a, b, value, c, d) {
   return new Error(a + b + (value === undefined ? '' : String(value)) + c + d);
+}
+export function estimate(count, mean, stdError, relativeError) {
+  return { count, mean, stdError, relativeError };
+}
+export function triangle(x1x, x1y, theta, alpha, beta, xi, t, s, d1, d2, radius, cx, cy) {
+  return { x1x, x1y, theta, alpha, beta, xi, t, s, d1, d2, radius, cx, cy };
 }")]
 extern "C" {
     /// `new Error(a + b + String(value) + c + d)` (no number for `None`):
     /// JavaScript formats the number and joins the message, which keeps
     /// Rust's float formatting and string building out of the module.
     fn error(a: &str, b: &str, value: Option<f64>, c: &str, d: &str) -> JsValue;
+
+    /// An `Estimate` object (see `RESULTS`).
+    fn estimate(count: f64, mean: f64, std_error: f64, relative_error: f64) -> JsValue;
+
+    /// A `Waterlevel` object (see `RESULTS`).
+    #[allow(clippy::too_many_arguments)]
+    fn triangle(
+        x1x: f64,
+        x1y: f64,
+        theta: f64,
+        alpha: f64,
+        beta: f64,
+        xi: f64,
+        t: f64,
+        s: f64,
+        d1: f64,
+        d2: f64,
+        radius: f64,
+        cx: f64,
+        cy: f64,
+    ) -> JsValue;
 }
+
+// The results with several numbers are plain JavaScript objects made by the
+// functions above, not wasm-bindgen classes: a class exports a getter and a
+// destructor per field from the module (1.5 KiB for these two).
+#[wasm_bindgen(typescript_custom_section)]
+const RESULTS: &str = r#"
+/** A running Monte Carlo estimate of the integral (`Demo.estimate`). */
+export interface Estimate {
+  /** Number of samples so far. */
+  readonly count: number;
+  /** The mean of the one-sample estimates. */
+  readonly mean: number;
+  /** Its standard error. */
+  readonly stdError: number;
+  /** `|mean − reference| / reference` (NaN for a zero reference). */
+  readonly relativeError: number;
+}
+
+/** The talk's "waterlevel" triangle x0, x1, x2 (`waterlevel`). */
+export interface Waterlevel {
+  /** The vertex x1. */
+  readonly x1x: number;
+  readonly x1y: number;
+  /** The deflection θ = α + β at x1. */
+  readonly theta: number;
+  /** The angle α at x0. */
+  readonly alpha: number;
+  /** The angle β at x2. */
+  readonly beta: number;
+  /** β/θ, the talk's ξ. */
+  readonly xi: number;
+  /** The talk's fractional distance t = sin β cos(θ − β) / sin θ. */
+  readonly t: number;
+  /** s = |x2 − x0|. */
+  readonly s: number;
+  /** d1 = |x1 − x0|. */
+  readonly d1: number;
+  /** d2 = |x2 − x1|. */
+  readonly d2: number;
+  /** The circumradius s / (2 sin θ). */
+  readonly radius: number;
+  /** The circumcircle's centre. */
+  readonly cx: number;
+  readonly cy: number;
+}
+"#;
 
 /// The core's error as a JavaScript `Error` with the message of its `Display`
 /// (`g = 1.5 is out of range; allowed: (-1, 1)`), the number formatted by
@@ -93,20 +166,22 @@ impl Demo {
         self.inner.run(n).map_err(js)
     }
 
-    /// The running estimate of `technique` (0 OMNEE, 1 equiangular, 2 MIS).
-    pub fn estimate(&self, technique: u32) -> Result<Estimate, JsValue> {
+    /// The running estimate of `technique` (0 OMNEE, 1 equiangular, 2 MIS),
+    /// an `Estimate` object (`count`, `mean`, `stdError`, `relativeError`).
+    #[wasm_bindgen(unchecked_return_type = "Estimate")]
+    pub fn estimate(&self, technique: u32) -> Result<JsValue, JsValue> {
         let stats = self.inner.stats(Method::from_index(technique).map_err(js)?);
         let reference = self.inner.reference();
-        Ok(Estimate {
-            count: stats.count() as f64,
-            mean: stats.mean(),
-            std_error: stats.std_error(),
-            relative_error: if reference > 0.0 {
+        Ok(estimate(
+            stats.count() as f64,
+            stats.mean(),
+            stats.std_error(),
+            if reference > 0.0 {
                 (stats.mean() - reference).abs() / reference
             } else {
                 f64::NAN
             },
-        })
+        ))
     }
 
     /// `n` (1 ..= 2²⁰) samples of `technique` drawn from generator `seed`,
@@ -123,72 +198,11 @@ impl Demo {
     }
 }
 
-/// A running Monte Carlo estimate of the integral.
-#[wasm_bindgen]
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Estimate {
-    /// Number of samples so far.
-    #[wasm_bindgen(readonly)]
-    pub count: f64,
-    /// The mean of the one-sample estimates.
-    #[wasm_bindgen(readonly)]
-    pub mean: f64,
-    /// Its standard error.
-    #[wasm_bindgen(readonly, js_name = stdError)]
-    pub std_error: f64,
-    /// `|mean − reference| / reference` (NaN for a zero reference).
-    #[wasm_bindgen(readonly, js_name = relativeError)]
-    pub relative_error: f64,
-}
-
-/// The talk's "waterlevel" triangle `x0, x1, x2` (see [`waterlevel`]).
-#[wasm_bindgen]
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Waterlevel {
-    /// x of the vertex `x1`.
-    #[wasm_bindgen(readonly)]
-    pub x1x: f64,
-    /// y of the vertex `x1`.
-    #[wasm_bindgen(readonly)]
-    pub x1y: f64,
-    /// The deflection θ = α + β at `x1`.
-    #[wasm_bindgen(readonly)]
-    pub theta: f64,
-    /// The angle α at `x0`.
-    #[wasm_bindgen(readonly)]
-    pub alpha: f64,
-    /// The angle β at `x2`.
-    #[wasm_bindgen(readonly)]
-    pub beta: f64,
-    /// `β/θ`, the talk's ξ.
-    #[wasm_bindgen(readonly)]
-    pub xi: f64,
-    /// The talk's fractional distance `t = sin β cos(θ − β) / sin θ`.
-    #[wasm_bindgen(readonly)]
-    pub t: f64,
-    /// `s = |x2 − x0|`.
-    #[wasm_bindgen(readonly)]
-    pub s: f64,
-    /// `d1 = |x1 − x0|`.
-    #[wasm_bindgen(readonly)]
-    pub d1: f64,
-    /// `d2 = |x2 − x1|`.
-    #[wasm_bindgen(readonly)]
-    pub d2: f64,
-    /// The circumradius `s / (2 sin θ)`.
-    #[wasm_bindgen(readonly)]
-    pub radius: f64,
-    /// x of the circumcircle's centre.
-    #[wasm_bindgen(readonly)]
-    pub cx: f64,
-    /// y of the circumcircle's centre.
-    #[wasm_bindgen(readonly)]
-    pub cy: f64,
-}
-
 /// The triangle with `x1` on the arc of constant `theta` ∈ (0, π) at
-/// `β/θ = xi` ∈ [0, 1], on the left of the axis from `x0` to `x2`.
-#[wasm_bindgen]
+/// `β/θ = xi` ∈ [0, 1], on the left of the axis from `x0` to `x2`: a
+/// `Waterlevel` object (`x1x`, `x1y`, `theta`, `alpha`, `beta`, `xi`, `t`,
+/// `s`, `d1`, `d2`, `radius`, `cx`, `cy`: the fields of `demo::Waterlevel`).
+#[wasm_bindgen(unchecked_return_type = "Waterlevel")]
 pub fn waterlevel(
     x0x: f64,
     x0y: f64,
@@ -196,23 +210,23 @@ pub fn waterlevel(
     x2y: f64,
     theta: f64,
     xi: f64,
-) -> Result<Waterlevel, JsValue> {
+) -> Result<JsValue, JsValue> {
     let w = demo::waterlevel([x0x, x0y], [x2x, x2y], theta, xi).map_err(js)?;
-    Ok(Waterlevel {
-        x1x: w.x1[0],
-        x1y: w.x1[1],
-        theta: w.theta,
-        alpha: w.alpha,
-        beta: w.beta,
-        xi: w.xi,
-        t: w.t,
-        s: w.s,
-        d1: w.d1,
-        d2: w.d2,
-        radius: w.radius,
-        cx: w.centre[0],
-        cy: w.centre[1],
-    })
+    Ok(triangle(
+        w.x1[0],
+        w.x1[1],
+        w.theta,
+        w.alpha,
+        w.beta,
+        w.xi,
+        w.t,
+        w.s,
+        w.d1,
+        w.d2,
+        w.radius,
+        w.centre[0],
+        w.centre[1],
+    ))
 }
 
 /// The arc of constant `theta` through `x0` and `x2` on both sides of the
