@@ -3,7 +3,6 @@
 
 use crate::demo::{self, Method, Problem};
 use alloc::string::String;
-use alloc::vec::Vec;
 use wasm_bindgen::prelude::*;
 
 #[wasm_bindgen(inline_js = "
@@ -13,6 +12,8 @@ export function error(a, b, value, c, d) {
 export function estimate(count, mean, stdError, relativeError) {
   return { count, mean, stdError, relativeError };
 }
+export function f32s(a) { return a.slice(); }
+export function f64s(a) { return a.slice(); }
 export function triangle(x1x, x1y, theta, alpha, beta, xi, t, s, d1, d2, radius, cx, cy) {
   return { x1x, x1y, theta, alpha, beta, xi, t, s, d1, d2, radius, cx, cy };
 }")]
@@ -21,6 +22,12 @@ extern "C" {
     /// JavaScript formats the number and joins the message, which keeps
     /// Rust's float formatting and string building out of the module.
     fn error(a: &str, b: &str, value: Option<f64>, c: &str, d: &str) -> JsValue;
+
+    /// A copy of `a` as a `Float32Array` (the module's memory only viewed).
+    fn f32s(a: &[f32]) -> JsValue;
+
+    /// A copy of `a` as a `Float64Array`.
+    fn f64s(a: &[f64]) -> JsValue;
 
     /// An `Estimate` object (see `RESULTS`).
     fn estimate(count: f64, mean: f64, std_error: f64, relative_error: f64) -> JsValue;
@@ -46,7 +53,9 @@ extern "C" {
 
 // The results with several numbers are plain JavaScript objects made by the
 // functions above, not wasm-bindgen classes: a class exports a getter and a
-// destructor per field from the module (1.5 KiB for these two).
+// destructor per field from the module (1.5 KiB for these two). Arrays are
+// copied into typed arrays by `f32s`/`f64s` rather than returned as a `Vec`,
+// which wasm-bindgen hands over as a boxed slice (shrinking the allocation).
 #[wasm_bindgen(typescript_custom_section)]
 const RESULTS: &str = r#"
 /** A running Monte Carlo estimate of the integral (`Demo.estimate`). */
@@ -186,10 +195,10 @@ impl Demo {
 
     /// `n` (1 ..= 2²⁰) samples of `technique` drawn from generator `seed`,
     /// rotated into the plane about the axis: `[x, y, estimate, …]`.
-    pub fn cloud(&self, technique: u32, n: u32, seed: u32) -> Result<Vec<f32>, JsValue> {
-        self.inner
-            .cloud(Method::from_index(technique).map_err(js)?, n, seed)
-            .map_err(js)
+    #[wasm_bindgen(unchecked_return_type = "Float32Array")]
+    pub fn cloud(&self, technique: u32, n: u32, seed: u32) -> Result<JsValue, JsValue> {
+        let method = Method::from_index(technique).map_err(js)?;
+        Ok(f32s(&self.inner.cloud(method, n, seed).map_err(js)?))
     }
 
     /// Forgets the estimates and restarts the generators from the seed.
@@ -231,7 +240,7 @@ pub fn waterlevel(
 
 /// The arc of constant `theta` through `x0` and `x2` on both sides of the
 /// axis: `segments + 1` points per side, `[x, y, …]`.
-#[wasm_bindgen]
+#[wasm_bindgen(unchecked_return_type = "Float64Array")]
 pub fn arc(
     x0x: f64,
     x0y: f64,
@@ -239,21 +248,25 @@ pub fn arc(
     x2y: f64,
     theta: f64,
     segments: u32,
-) -> Result<Vec<f64>, JsValue> {
-    demo::arc([x0x, x0y], [x2x, x2y], theta, segments).map_err(js)
+) -> Result<JsValue, JsValue> {
+    Ok(f64s(
+        &demo::arc([x0x, x0y], [x2x, x2y], theta, segments).map_err(js)?,
+    ))
 }
 
 /// A histogram of `n` sampled deflections over `bins` bins of
 /// `[0, thetaHi]`: `bins` sampled densities, then `bins` exact ones.
-#[wasm_bindgen]
+#[wasm_bindgen(unchecked_return_type = "Float64Array")]
 pub fn histogram(
     phase: &str,
     n: u32,
     bins: u32,
     #[wasm_bindgen(js_name = thetaHi)] theta_hi: f64,
     seed: u32,
-) -> Result<Vec<f64>, JsValue> {
-    demo::histogram(phase, n, bins, theta_hi, seed).map_err(js)
+) -> Result<JsValue, JsValue> {
+    Ok(f64s(
+        &demo::histogram(phase, n, bins, theta_hi, seed).map_err(js)?,
+    ))
 }
 
 /// The deflection θ below which a fraction `u` of the scattering goes.

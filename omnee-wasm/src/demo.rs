@@ -310,7 +310,10 @@ fn cloud(
     let e = axis.e;
     // The in-plane normal of the axis (the plane is z = 0).
     let normal = Vec3::new(-e.y(), e.x(), 0.0);
-    let mut out = Vec::with_capacity(3 * n as usize);
+    // Written in place and truncated: a Vec that never grows (its growth
+    // path is half a KiB of the module).
+    let mut out = vec![0.0; 3 * n as usize];
+    let mut len = 0;
     for _ in 0..n {
         let Some(s) = technique.sample(rng.uniform3().map(S::from_f32)) else {
             continue;
@@ -320,12 +323,16 @@ fn cloud(
         let radial = p - e * along;
         let h = radial.length().copysign(radial.dot(normal));
         let q = axis.x0 + e * along + normal * h;
-        out.extend_from_slice(&[
-            q.x().to_f32(),
-            q.y().to_f32(),
-            problem.estimate(&s).to_f32(),
-        ]);
+        if let Some(point) = out.get_mut(len..len + 3) {
+            point.copy_from_slice(&[
+                q.x().to_f32(),
+                q.y().to_f32(),
+                problem.estimate(&s).to_f32(),
+            ]);
+            len += 3;
+        }
     }
+    out.truncate(len);
     out
 }
 
@@ -540,7 +547,8 @@ pub fn arc(x0: [f64; 2], x2: [f64; 2], theta: f64, segments: u32) -> Result<Vec<
     let (axis, e, n) = axis2(x0, x2)?;
     check_theta(theta)?;
     check_count("segments", segments, MAX_BINS, "[1, 4096]")?;
-    let mut out = Vec::with_capacity(4 * (segments as usize + 1));
+    let mut out = vec![0.0; 4 * (segments as usize + 1)];
+    let mut points = out.chunks_exact_mut(2);
     for side in [1.0, -1.0] {
         for k in 0..=segments {
             let angles = Angles {
@@ -552,7 +560,9 @@ pub fn arc(x0: [f64; 2], x2: [f64; 2], theta: f64, segments: u32) -> Result<Vec<
                 field: "theta",
                 reason: "the triangle does not close",
             })?;
-            out.extend_from_slice(&p);
+            if let Some(point) = points.next() {
+                point.copy_from_slice(&p);
+            }
         }
     }
     Ok(out)

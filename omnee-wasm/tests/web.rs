@@ -33,10 +33,7 @@ fn browser_numbers_match_the_native_fixture() {
     a.run(RUN).expect("run a");
     let mut b = demo(B_SPEC, B_X0, B_X2, B_MEDIUM);
     b.run(RUN).expect("run b");
-    let cloud = |t| -> Vec<f64> {
-        let c = a.cloud(t, CLOUD, 9).expect("cloud");
-        c.into_iter().map(f64::from).collect()
-    };
+    let cloud = |t| numbers(&a.cloud(t, CLOUD, 9).expect("cloud"));
     let (spec, n, bins, hi) = HIST;
     let (x0, x2, theta, xi) = WATER;
     let w = waterlevel(x0[0], x0[1], x2[0], x2[1], theta, xi).expect("waterlevel");
@@ -48,7 +45,7 @@ fn browser_numbers_match_the_native_fixture() {
         cloud(0),
         cloud(1),
         cloud(2),
-        histogram(spec, n, bins, hi, 11).expect("histogram"),
+        numbers(&histogram(spec, n, bins, hi, 11).expect("histogram")),
         [
             "x1x", "x1y", "theta", "alpha", "beta", "xi", "t", "s", "d1", "d2", "radius", "cx",
             "cy",
@@ -79,7 +76,7 @@ fn estimates_report_the_relative_error() {
     assert_eq!(get(&d.estimate(2).expect("estimate"), "count"), 0.0);
     assert!((mean_cosine("hg:0.9").expect("g") - 0.9).abs() < 1e-15);
     let pts = arc(0.0, 0.0, 1.0, 0.0, 1.0, 16).expect("arc");
-    assert_eq!(pts.len(), 4 * 17);
+    assert_eq!(numbers(&pts).len(), 4 * 17);
 }
 
 #[wasm_bindgen_test]
@@ -120,7 +117,11 @@ fn numbers_are_read_as_f64_from_str_reads_them() {
 
 #[wasm_bindgen(inline_js = "
 export function message(e) { return e instanceof Error ? e.message : ''; }
-export function get(o, key) { return typeof o[key] === 'number' ? o[key] : NaN; }")]
+export function get(o, key) { return typeof o[key] === 'number' ? o[key] : NaN; }
+export function numbers(a) {
+  if (!(a instanceof Float32Array || a instanceof Float64Array)) throw new Error('not a typed array');
+  return Float64Array.from(a);
+}")]
 extern "C" {
     /// The message of a thrown JavaScript `Error` (empty for anything else).
     fn message(e: &wasm_bindgen::JsValue) -> String;
@@ -128,6 +129,10 @@ extern "C" {
     /// The number `o[key]` of a result object (NaN if it is missing or not a
     /// number).
     fn get(o: &wasm_bindgen::JsValue, key: &str) -> f64;
+
+    /// The numbers of a `Float32Array` or `Float64Array` result (throws for
+    /// anything else).
+    fn numbers(a: &wasm_bindgen::JsValue) -> Vec<f64>;
 }
 
 #[wasm_bindgen_test]
