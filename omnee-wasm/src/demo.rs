@@ -127,11 +127,6 @@ fn plane_point(p: [f64; 2]) -> Vec3 {
     Vec3::new(S::from_f64(p[0]), S::from_f64(p[1]), 0.0)
 }
 
-fn widen(v: Vec3) -> DVec3 {
-    let [x, y, z] = v.to_array();
-    DVec3::new(x.to_f64(), y.to_f64(), z.to_f64())
-}
-
 /// The point-to-point problem of `omnee_core::reference` in the demo plane,
 /// with running estimates of its integral by the three [`Method`]s.
 #[derive(Clone, Debug)]
@@ -164,17 +159,14 @@ impl Problem {
         let connection = Connection::<S>::new(a, b, S::from_f64(theta_max))?;
         let medium = Homogeneous::<S>::new(S::from_f64(sigma_s), S::from_f64(sigma_a))?;
         let problem = PointToPoint::new(connection, medium, None)?;
-        // The reference describes exactly the (rounded) problem sampled.
-        let problem64 = PointToPoint::new(
-            Connection::<f64>::new(
-                widen(a),
-                widen(b),
-                connection.theta_max.to_f64().min(REFERENCE_THETA_MAX),
-            )?,
-            Homogeneous::<f64>::new(medium.sigma_s().to_f64(), medium.sigma_a().to_f64())?,
-            None,
-        )?;
-        let reference = problem64.integral(&phase64);
+        // The reference describes exactly the problem sampled: `integral`
+        // widens the f32 problem's s, σs, σt and θmax and integrates in f64
+        // (no f64 copy of the problem is built). θmax is capped at
+        // REFERENCE_THETA_MAX rounded to f32, which is below π (the f32 π is
+        // above it).
+        let mut capped = problem;
+        capped.connection.theta_max = connection.theta_max.min(S::from_f64(REFERENCE_THETA_MAX));
+        let reference = capped.integral(&phase64);
         Ok(Self {
             phase,
             problem,
