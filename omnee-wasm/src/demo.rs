@@ -12,7 +12,7 @@ use crate::rng::Pcg32;
 use alloc::vec;
 use alloc::vec::Vec;
 use omnee_core::Error;
-use omnee_core::circumcircle::{Angles, Axis, circumradius, fractional_distance, side_lengths};
+use omnee_core::circumcircle::{Angles, circumradius, fractional_distance, side_lengths};
 use omnee_core::medium::{Homogeneous, Region};
 use omnee_core::mis::OmneeMis;
 use omnee_core::phase::{Deflection, PhaseFunction};
@@ -25,7 +25,6 @@ use omnee_core::sampling::{Connection, Directions, Equiangular, Omnee, Sample, T
 /// 11 % smaller (one copy of each routine; README.md).
 pub type S = f32;
 type Vec3 = <S as Real>::Vec3;
-type DVec3 = <f64 as Real>::Vec3;
 
 /// Most samples one call may draw (keeps a call under a second or so).
 pub const MAX_RUN: u32 = 1 << 24;
@@ -447,14 +446,32 @@ pub struct Waterlevel {
     pub centre: [f64; 2],
 }
 
-/// The axis between two plane points with its unit direction `e` and the
-/// in-plane normal `n` (`e` turned by +90°).
-type PlaneAxis = (Axis<f64>, [f64; 2], [f64; 2]);
-
-fn axis2(x0: [f64; 2], x2: [f64; 2]) -> Result<PlaneAxis, Error> {
-    let axis = Axis::<f64>::new(DVec3::new(x0[0], x0[1], 0.0), DVec3::new(x2[0], x2[1], 0.0))?;
-    let e = [axis.e.x(), axis.e.y()];
-    Ok((axis, e, [-e[1], e[0]]))
+/// The distance `s` between two plane points, the unit direction `e` from
+/// `x0` to `x2` and the in-plane normal `n` (`e` turned by +90°): the plane
+/// case of the core's `Axis::new`, with its checks and errors and the same
+/// arithmetic (`s = √(dx² + dy²)`, `e = d · (1/s)`), without the 3-D frame.
+fn axis2(x0: [f64; 2], x2: [f64; 2]) -> Result<(f64, [f64; 2], [f64; 2]), Error> {
+    let finite = |p: [f64; 2]| p[0].is_finite() && p[1].is_finite();
+    if !finite(x0) {
+        return Err(Error::NotFinite { field: "x0" });
+    }
+    if !finite(x2) {
+        return Err(Error::NotFinite { field: "x2" });
+    }
+    let d = [x2[0] - x0[0], x2[1] - x0[1]];
+    let s = Real::sqrt(d[0] * d[0] + d[1] * d[1]);
+    if !(s > 0.0) {
+        return Err(Error::Degenerate {
+            field: "x2",
+            reason: "coincides with x0 (s = 0)",
+        });
+    }
+    if !s.is_finite() {
+        return Err(Error::NotFinite { field: "x2 - x0" });
+    }
+    let inv = 1.0 / s;
+    let e = [d[0] * inv, d[1] * inv];
+    Ok((s, e, [-e[1], e[0]]))
 }
 
 fn check_theta(theta: f64) -> Result<(), Error> {
@@ -492,7 +509,7 @@ fn arc_point(
 /// The triangle for the angle `theta ∈ (0, π)` and `xi = β/θ ∈ [0, 1]`
 /// between the plane points `x0` and `x2`.
 pub fn waterlevel(x0: [f64; 2], x2: [f64; 2], theta: f64, xi: f64) -> Result<Waterlevel, Error> {
-    let (axis, e, n) = axis2(x0, x2)?;
+    let (s, e, n) = axis2(x0, x2)?;
     check_theta(theta)?;
     if !(0.0..=1.0).contains(&xi) {
         return Err(Error::OutOfRange {
@@ -510,9 +527,9 @@ pub fn waterlevel(x0: [f64; 2], x2: [f64; 2], theta: f64, xi: f64) -> Result<Wat
         field: "theta",
         reason: "the triangle does not close",
     };
-    let (x1, d1, d2) = arc_point(x0, e, n, axis.s, angles, 1.0).ok_or(bad)?;
+    let (x1, d1, d2) = arc_point(x0, e, n, s, angles, 1.0).ok_or(bad)?;
     let t = fractional_distance(angles).ok_or(bad)?;
-    let radius = circumradius(axis.s, theta);
+    let radius = circumradius(s, theta);
     // The centre lies on the bisector of x0 x2, R cos θ away from the chord,
     // on the far side from x1 when θ < π/2 (x1 on the minor arc).
     let h = radius * Real::cos(theta);
@@ -524,7 +541,7 @@ pub fn waterlevel(x0: [f64; 2], x2: [f64; 2], theta: f64, xi: f64) -> Result<Wat
         beta: angles.beta(),
         xi,
         t,
-        s: axis.s,
+        s,
         d1,
         d2,
         radius,
@@ -536,7 +553,7 @@ pub fn waterlevel(x0: [f64; 2], x2: [f64; 2], theta: f64, xi: f64) -> Result<Wat
 /// `x2` on the left of the axis, then the same on the right, flattened as
 /// `[x, y, …]` (`4 (segments + 1)` numbers; `segments` in 1 ..= 4096).
 pub fn arc(x0: [f64; 2], x2: [f64; 2], theta: f64, segments: u32) -> Result<Vec<f64>, Error> {
-    let (axis, e, n) = axis2(x0, x2)?;
+    let (s, e, n) = axis2(x0, x2)?;
     check_theta(theta)?;
     check_count("segments", segments, MAX_BINS, "[1, 4096]")?;
     let mut out = vec![0.0; 4 * (segments as usize + 1)];
@@ -548,7 +565,7 @@ pub fn arc(x0: [f64; 2], x2: [f64; 2], theta: f64, segments: u32) -> Result<Vec<
                 beta_ratio: f64::from(k) / f64::from(segments),
                 phi: 0.0,
             };
-            let (p, _, _) = arc_point(x0, e, n, axis.s, angles, side).ok_or(Error::Degenerate {
+            let (p, _, _) = arc_point(x0, e, n, s, angles, side).ok_or(Error::Degenerate {
                 field: "theta",
                 reason: "the triangle does not close",
             })?;
