@@ -2,7 +2,6 @@
 //! invalid input into a thrown `Error` (never a trap).
 
 use crate::demo::{self, Method, Problem};
-use alloc::string::String;
 use wasm_bindgen::prelude::*;
 
 #[wasm_bindgen(inline_js = "
@@ -282,7 +281,7 @@ pub fn mean_cosine(phase: &str) -> Result<f64, JsValue> {
 }
 
 /// The crate version, for the page footer.
-#[wasm_bindgen]
-pub fn version() -> String {
-    env!("CARGO_PKG_VERSION").into()
+#[wasm_bindgen(unchecked_return_type = "string")]
+pub fn version() -> JsValue {
+    JsValue::from_str(env!("CARGO_PKG_VERSION"))
 }
