@@ -114,6 +114,12 @@ impl<F: Real> Connection<F> {
         })
     }
 
+    /// The talk's default restriction, forward scattering only: θmax = π/2,
+    /// the ball with diameter `x0x2` (MATH.md §2); `new(x0, x2, π/2)`.
+    pub fn forward(x0: F::Vec3, x2: F::Vec3) -> Result<Self, Error> {
+        Self::new(x0, x2, F::FRAC_PI_2)
+    }
+
     /// The deflection at `x1`: θ between `ω1 = (x1 − x0)/d1` and
     /// `ω2 = (x2 − x1)/d2` in cancellation-free form, with `(d1, d2)`;
     /// `None` if `x1` coincides with an end point or is not finite.
