@@ -7,7 +7,7 @@
 use libfuzzer_sys::fuzz_target;
 use omnee_core::{Real, Vector};
 use omnee_core::medium::Region;
-use omnee_core::mis::{Heuristic, OneSample, multi_sample_weight};
+use omnee_core::mis::{Heuristic, OmneeMis, OneSample, multi_sample_weight};
 use omnee_core::phase::{
     Deflection, Draine, FournierForand, HenyeyGreenstein, Isotropic, Mie, Phase, PhaseFunction,
     Rayleigh, TwoTermHg,
@@ -141,6 +141,11 @@ fn run<F: Real>(f: &mut Floats) {
     let heuristic = if f.byte() % 2 == 0 { Heuristic::Balance } else { Heuristic::Power };
     if let Ok(mis) = OneSample::new(techniques, probabilities, heuristic) {
         check_technique(&mis, "one-sample MIS", f);
+    }
+    check_technique(&OmneeMis::recommended(omnee, &equiangular), "OmneeMis::recommended", f);
+    let cone = Deflection::from_theta(F::from_f64(f.next()));
+    if let Ok(mis) = OmneeMis::new(omnee, &distance, F::from_f64(f.next()), cone) {
+        check_technique(&mis, "OmneeMis", f);
     }
     let x1 = vec3::<F>(f);
     let counts = [F::ONE, F::TWO, F::HALF];
