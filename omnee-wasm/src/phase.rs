@@ -218,30 +218,20 @@ impl<F: Real> PhaseFunction<F> for Analytic<F> {
 /// wrong count.
 fn numbers(args: &str, fields: &[&'static str], usage: Error) -> Result<[f64; 3], Error> {
     let mut out = [0.0; 3];
-    let mut parts = split(args, b',');
+    let mut rest = Some(args);
     for (slot, &field) in out.iter_mut().zip(fields) {
-        let part = parts.next().ok_or(usage)?.trim();
-        *slot = number(part).ok_or(syntax(field, "not a number"))?;
-    }
-    match parts.next() {
-        Some(_) => Err(usage),
-        None => Ok(out),
-    }
-}
-
-/// The pieces of `s` between the `separator`s, an ASCII byte: `str::split`
-/// with a `char`, whose general pattern search is larger in wasm.
-fn split(s: &str, separator: u8) -> impl Iterator<Item = &str> {
-    let mut rest = Some(s);
-    core::iter::from_fn(move || {
-        let s = rest?;
-        let (piece, tail) = match split_once(s, separator) {
-            Some((piece, tail)) => (piece, Some(tail)),
+        let s = rest.ok_or(usage)?;
+        let (part, tail) = match split_once(s, b',') {
+            Some((part, tail)) => (part, Some(tail)),
             None => (s, None),
         };
         rest = tail;
-        Some(piece)
-    })
+        *slot = number(part.trim()).ok_or(syntax(field, "not a number"))?;
+    }
+    match rest {
+        Some(_) => Err(usage),
+        None => Ok(out),
+    }
 }
 
 /// `s` split at the first `separator`, an ASCII byte (so both sides are
