@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
 """Turns criterion's estimates of `cargo bench --bench samplers` into the
-ns-per-sample tables of docs/benchmarks.md.
+ns-per-sample tables of docs/benchmarks.md (sample, pdf, phase alone, the
+slab renderer's connection).
 
 Usage: python3 benches/summarize.py [CRITERION_DIR]
 (default: $CARGO_TARGET_DIR/criterion, else target/criterion).
 
-Every samplers benchmark processes BATCH = 256 samples per iteration, so
-ns/sample = criterion's mean time per iteration / 256 (the median and the
-confidence interval are scaled alike). Prints Markdown tables to stdout.
+Every samplers benchmark processes BATCH = 256 samples (or vertices, or
+connections) per iteration, so ns per item = criterion's mean time per
+iteration / 256 (the median and the confidence interval are scaled alike). Prints Markdown tables to stdout.
 """
 import json
 import os
@@ -43,30 +44,41 @@ def main():
     techs = ["omnee", "equiangular", "distance", "mis"]
     phases = []
     for (g, f, v) in data:
-        if g.startswith("technique/") and v not in phases:
+        if g.startswith("sample/") and v not in phases:
             phases.append(v)
     order = ["iso", "hg0", "hg0.9", "hg0.98", "tthg", "ff", "draine", "mie10", "rayleigh"]
     phases.sort(key=lambda p: order.index(p) if p in order else 99)
+
+    def cell(d):
+        return f"{d['mean']:.1f} [{d['lo']:.1f}, {d['hi']:.1f}]" if d else "—"
+
     for prec in ["f32", "f64"]:
-        print(f"\n#### {prec}: ns per sample (sample + pdf), criterion mean [95 % CI]\n")
-        print("| phase | " + " | ".join(techs) + " | phase alone | omnee ÷ equiangular |")
-        print("|---" * (len(techs) + 3) + "|")
-        for p in phases:
-            cells = []
-            for t in techs:
-                d = data.get((f"technique/{prec}", t, p))
-                cells.append(f"{d['mean']:.1f} [{d['lo']:.1f}, {d['hi']:.1f}]" if d else "—")
-            ph = data.get((f"phase/{prec}", p, None))
-            o = data.get((f"technique/{prec}", "omnee", p))
-            e = data.get((f"technique/{prec}", "equiangular", p))
-            ratio = f"{o['mean'] / e['mean']:.2f}" if o and e else "—"
-            alone = f"{ph['mean']:.1f}" if ph else "—"
-            print(f"| {p} | " + " | ".join(cells) + f" | {alone} | {ratio} |")
+        for what, title in [("sample", "sample (x1 with its pdf and weight)"),
+                            ("pdf", "pdf(x1) at a sampled vertex")]:
+            print(f"\n#### {prec}: ns per {title}, criterion mean [95 % CI]\n")
+            extra = " | phase alone (sample_pdf) | omnee ÷ equiangular |" if what == "sample" else " | omnee ÷ equiangular |"
+            print("| phase | " + " | ".join(techs) + extra)
+            print("|---" * (len(techs) + (3 if what == "sample" else 2)) + "|")
+            for p in phases:
+                cells = [cell(data.get((f"{what}/{prec}", t, p))) for t in techs]
+                o = data.get((f"{what}/{prec}", "omnee", p))
+                e = data.get((f"{what}/{prec}", "equiangular", p))
+                ratio = f"{o['mean'] / e['mean']:.2f}" if o and e else "—"
+                row = f"| {p} | " + " | ".join(cells)
+                if what == "sample":
+                    ph = data.get((f"phase/{prec}", p, None))
+                    row += f" | {ph['mean']:.1f}" if ph else " | —"
+                print(row + f" | {ratio} |")
         c = data.get((f"connection/{prec}", "omnee-hg0.9", None))
         if c:
-            print(f"\nNew connection per sample (Connection::new + OMNEE hg0.9 sample + pdf): "
+            print(f"\nNew connection per sample (Connection::new + OMNEE hg0.9 sample): "
                   f"{c['mean']:.1f} ns [{c['lo']:.1f}, {c['hi']:.1f}].")
-
+    slab = [(t, data.get(("slab", t, None))) for t in techs]
+    if any(d for _, d in slab):
+        print("\n#### One once-more connection of the slab renderer (default scene), ns, criterion mean [95 % CI]\n")
+        print("| " + " | ".join(techs) + " |")
+        print("|---" * len(techs) + "|")
+        print("| " + " | ".join(cell(d) for _, d in slab) + " |")
 
 if __name__ == "__main__":
     main()
