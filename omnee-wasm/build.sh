@@ -103,10 +103,13 @@ build_wasm() {
     local bg="$PKG/omnee_wasm_bg.wasm"
     local before
     before=$(stat -c %s "$bg")
-    # --converge repeats -Oz while it still shrinks the module (83 B, 1 s);
-    # the producers and target-features sections are for tools, not browsers
-    # (265 B).
-    "$E2E/node_modules/.bin/wasm-opt" -Oz --converge --strip-producers --strip-target-features "$bg" -o "$bg"
+    # -Oz, then the control flow rebuilt from flat code (--flatten
+    # --rereloop, 660 B) and -Oz again with similar functions merged (80 B);
+    # --converge repeats the passes while they still shrink the module. The
+    # producers and target-features sections are for tools, not browsers
+    # (265 B). About 5 s.
+    "$E2E/node_modules/.bin/wasm-opt" -Oz --flatten --rereloop -Oz --merge-similar-functions -Oz \
+        --converge --strip-producers --strip-target-features "$bg" -o "$bg"
     WASM_BYTES=$(stat -c %s "$bg")
     WASM_GZIP_BYTES=$(gzip -9 -c "$bg" | wc -c)
     local issue="within issue 5's $ISSUE_WASM_BYTES B"
