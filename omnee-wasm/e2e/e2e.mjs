@@ -1,9 +1,10 @@
 // End-to-end test of the omnee-wasm demo page: serves omnee-wasm/web on 127.0.0.1,
 // drives /usr/bin/chromium with playwright-core, moves the θ slider, drags x2, reads the
-// numbers the page shows and checks them, measures the sampling throughput and saves a
-// screenshot to e2e/out/demo.png. Exits non-zero on the first failed check.
+// numbers the page shows and checks them, checks the optimised module against the native
+// fixture, measures the sampling throughput and saves a screenshot to e2e/out/demo.png.
+// Exits non-zero on the first failed check.
 import { spawn } from 'node:child_process';
-import { mkdirSync } from 'node:fs';
+import { mkdirSync, readFileSync } from 'node:fs';
 import { createServer } from 'node:net';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -13,6 +14,23 @@ const here = dirname(fileURLToPath(import.meta.url));
 const web = join(here, '..', 'web');
 const out = join(here, 'out');
 const MIN_RATE = 1e6; // samples per second (issue 5)
+
+// The fixed cases of the native and browser tests (tests/common/mod.rs) and their native
+// results (tests/common/fixture.rs), read from the Rust sources: the optimised module
+// (after wasm-opt) must reproduce them as the unoptimised test build does.
+const common = join(here, '..', 'tests', 'common');
+const rustValue = (src, name) => {
+  const m = src.match(new RegExp(`pub const ${name}: [^=]+= &?([^;]+);`));
+  if (!m) throw new Error(`no constant ${name} in tests/common`);
+  // Rust tuples become arrays; PI and digit separators become JavaScript.
+  const js = m[1].replaceAll('(', '[').replaceAll(')', ']').replaceAll('PI', 'Math.PI').replace(/(\d)_(\d)/g, '$1$2');
+  return Function(`return ${js};`)();
+};
+const cases = readFileSync(join(common, 'mod.rs'), 'utf8');
+const fixture = readFileSync(join(common, 'fixture.rs'), 'utf8');
+const CASE_NAMES = ['A_SPEC', 'A_X0', 'A_X2', 'A_MEDIUM', 'B_SPEC', 'B_X0', 'B_X2', 'B_MEDIUM', 'SEED', 'RUN', 'CLOUD', 'HIST', 'WATER'];
+const FIXTURE_NAMES = ['A_REFERENCE', 'A_ESTIMATES', 'B_REFERENCE', 'B_ESTIMATES', 'CLOUD_OMNEE',
+  'CLOUD_EQUIANGULAR', 'CLOUD_MIS', 'HISTOGRAM', 'WATERLEVEL', 'QUANTILE'];
 
 let passed = 0;
 const check = (ok, what) => {
@@ -53,6 +71,40 @@ try {
   await page.goto(url);
   await page.waitForFunction(() => window.omnee?.ready === true, null, { timeout: 20000 });
   const num = async (id) => Number(await page.locator(`#${id}`).textContent());
+
+  // The optimised module against the native fixture, to 1e-6 relative (tests/common/mod.rs).
+  const c = Object.fromEntries(CASE_NAMES.map((n) => [n, rustValue(cases, n)]));
+  const got = await page.evaluate(async (c) => {
+    const m = await import('./pkg/omnee_wasm.js');
+    const demo = (spec, x0, x2, k) => new m.Demo(spec, x0[0], x0[1], x2[0], x2[1], k[0], k[1], k[2], c.SEED);
+    const estimates = (d) => [0, 1, 2].flatMap((t) => { const e = d.estimate(t); return [e.count, e.mean, e.stdError]; });
+    const a = demo(c.A_SPEC, c.A_X0, c.A_X2, c.A_MEDIUM);
+    const b = demo(c.B_SPEC, c.B_X0, c.B_X2, c.B_MEDIUM);
+    a.run(c.RUN);
+    b.run(c.RUN);
+    const [spec, n, bins, hi] = c.HIST;
+    const [x0, x2, theta, xi] = c.WATER;
+    const w = m.waterlevel(x0[0], x0[1], x2[0], x2[1], theta, xi);
+    const values = [[a.reference], estimates(a), [b.reference], estimates(b),
+      ...[0, 1, 2].map((t) => Array.from(a.cloud(t, c.CLOUD, 9))),
+      Array.from(m.histogram(spec, n, bins, hi, 11)),
+      ['x1x', 'x1y', 'theta', 'alpha', 'beta', 'xi', 't', 's', 'd1', 'd2', 'radius', 'cx', 'cy'].map((k) => w[k]),
+      [m.quantile(c.B_SPEC, 0.9)]];
+    a.free();
+    b.free();
+    return values;
+  }, c);
+  const wanted = FIXTURE_NAMES.map((name) => rustValue(fixture, name));
+  const differ = [];
+  FIXTURE_NAMES.forEach((name, i) => {
+    if (got[i].length !== wanted[i].length) differ.push(`${name.toLowerCase()}: ${got[i].length} values, fixture ${wanted[i].length}`);
+    got[i].forEach((g, k) => {
+      const w = wanted[i][k];
+      if (!(g === w || Math.abs(g - w) <= 1e-6 * Math.max(Math.abs(g), Math.abs(w)))) differ.push(`${name.toLowerCase()}[${k}]: ${g} vs ${w}`);
+    });
+  });
+  const count = wanted.reduce((n, v) => n + v.length, 0);
+  check(differ.length === 0, `the optimised module reproduces the ${count} native fixture values to 1e-6${differ.length ? `: ${differ.slice(0, 5).join('; ')}` : ''}`);
 
   // The waterlevel: t is the talk's formula of θ and ξ.
   const talk = (theta, xi) => Math.cos(theta - xi * theta) * Math.sin(xi * theta) / Math.sin(theta);
