@@ -8,7 +8,8 @@ use wasm_bindgen::prelude::*;
 export function error(a, b, value, c, d) {
   return new Error(a + b + (value === undefined ? '' : String(value)) + c + d);
 }
-export function estimate(count, mean, stdError, relativeError) {
+export function estimate(count, mean, stdError, reference) {
+  const relativeError = reference > 0 ? Math.abs(mean - reference) / reference : NaN;
   return { count, mean, stdError, relativeError };
 }
 export function f32s(a) { return a.slice(); }
@@ -28,8 +29,9 @@ extern "C" {
     /// A copy of `a` as a `Float64Array`.
     fn f64s(a: &[f64]) -> JsValue;
 
-    /// An `Estimate` object (see `RESULTS`).
-    fn estimate(count: f64, mean: f64, std_error: f64, relative_error: f64) -> JsValue;
+    /// An `Estimate` object (see `RESULTS`), with the relative error
+    /// `|mean − reference| / reference` (NaN unless `reference > 0`).
+    fn estimate(count: f64, mean: f64, std_error: f64, reference: f64) -> JsValue;
 
     /// A `Waterlevel` object (see `RESULTS`).
     #[allow(clippy::too_many_arguments)]
@@ -179,16 +181,11 @@ impl Demo {
     #[wasm_bindgen(unchecked_return_type = "Estimate")]
     pub fn estimate(&self, technique: u32) -> Result<JsValue, JsValue> {
         let stats = self.inner.stats(Method::from_index(technique).map_err(js)?);
-        let reference = self.inner.reference();
         Ok(estimate(
             stats.count() as f64,
             stats.mean(),
             stats.std_error(),
-            if reference > 0.0 {
-                (stats.mean() - reference).abs() / reference
-            } else {
-                f64::NAN
-            },
+            self.inner.reference(),
         ))
     }
 
