@@ -94,8 +94,15 @@ target_dir() {
 build_wasm() {
     log "cargo build --no-default-features --profile wasm-release --target wasm32-unknown-unknown"
     # The workspace's wasm-release profile (root Cargo.toml): LTO, one codegen
-    # unit, panic = abort, no debug info; used by this build only.
-    (cd "$ROOT" && cargo build -p omnee-wasm --no-default-features --profile wasm-release --target wasm32-unknown-unknown)
+    # unit, panic = abort, no debug info, opt-level z; used by this build
+    # only. Without default features: no std (lib.rs). omnee-core and
+    # wasm-bindgen are compiled at opt-level s before LTO, which makes the
+    # optimised module 477 B and 171 B smaller (measured; s for every
+    # dependency makes it 1.5 KiB larger, libm at s alone 3 KiB).
+    (cd "$ROOT" && cargo build -p omnee-wasm --no-default-features --profile wasm-release \
+        --target wasm32-unknown-unknown \
+        --config 'profile.wasm-release.package.omnee-core.opt-level = "s"' \
+        --config 'profile.wasm-release.package.wasm-bindgen.opt-level = "s"')
     local raw
     raw="$(target_dir)/wasm32-unknown-unknown/wasm-release/omnee_wasm.wasm"
     rm -rf "$PKG"
