@@ -20,6 +20,8 @@
 //! - `connection/f32/omnee-hg0.9`: a fresh connection per sample
 //!   (`Connection::new` for a moving `x0`, then an OMNEE sample), the cost a
 //!   renderer pays when every camera vertex connects to a new light point.
+//! - `batch/f32/omnee/<hg>`: `Omnee::sample_batch`, the structure-of-arrays
+//!   entry point, on the batch's triples (compare `sample/f32/omnee/<hg>`).
 //! - `slab/<technique>`: one call of `omnee_cli::world::World::once_more` on
 //!   the default scene (`omnee default-scene`) for 256 floor points: a light
 //!   point, the connection, the technique's vertex, closed-form
@@ -316,9 +318,49 @@ fn slab(c: &mut Criterion<CpuTime>) {
     group.finish();
 }
 
+/// The structure-of-arrays entry point against the scalar sampler, same
+/// triples: `batch/f32/omnee/<phase>` vs `sample/f32/omnee/<phase>`.
+fn batch(c: &mut Criterion<CpuTime>) {
+    use omnee::sampling::{Uniforms, Vertices};
+    let us = uniforms::<f32>();
+    let soa = |k: usize| us.iter().map(|u| u[k]).collect::<Vec<f32>>();
+    let (u0, u1, u2) = (soa(0), soa(1), soa(2));
+    let full = Connection::new(glam::Vec3::Z, glam::Vec3::ZERO, std::f32::consts::PI).unwrap();
+    let mut group = c.benchmark_group("batch/f32");
+    group.throughput(Throughput::Elements(BATCH as u64));
+    for g in [0.0f32, 0.9, 0.98] {
+        let omnee = Omnee::new(full, HenyeyGreenstein::new(g).unwrap());
+        let (mut x, mut y, mut z) = (vec![0.0; BATCH], vec![0.0; BATCH], vec![0.0; BATCH]);
+        let (mut pdf, mut weight) = (vec![0.0; BATCH], vec![0.0; BATCH]);
+        group.bench_function(BenchmarkId::new("omnee", format!("hg{g}")), |b| {
+            b.iter(|| {
+                let n = omnee
+                    .sample_batch(
+                        Uniforms {
+                            u0: black_box(&u0),
+                            u1: &u1,
+                            u2: &u2,
+                        },
+                        Vertices {
+                            x: &mut x,
+                            y: &mut y,
+                            z: &mut z,
+                            pdf: &mut pdf,
+                            weight: &mut weight,
+                        },
+                    )
+                    .unwrap();
+                n as f32 + pdf[n / 2] + weight[n / 3] + x[n / 4]
+            })
+        });
+    }
+    group.finish();
+}
+
 fn benches(c: &mut Criterion<CpuTime>) {
     all::<f32>(c, "f32");
     all::<f64>(c, "f64");
+    batch(c);
     slab(c);
 }
 

@@ -16,16 +16,20 @@
 //! - [`Omnee`]: angle first, then the circumcircle arc (the new technique);
 //! - [`Equiangular`]: a ray from `x2`, distance equiangular towards `x0`
 //!   (Kulla & Fajardo 2012);
-//! - [`Distance`]: a ray from `x2`, exponential free-flight distance.
+//! - [`Distance`]: a ray from `x2`, exponential free-flight distance;
+//! - [`Omnee::sample_batch`]: OMNEE with Henyey–Greenstein for a batch of
+//!   uniform triples in structure-of-arrays form, vectorised.
 //!
 //! All densities are in the volume measure (m⁻³), so [`crate::mis`] combines
 //! any set of them.
 
+mod batch;
 mod directions;
 mod distance;
 mod equiangular;
 mod omnee;
 
+pub use batch::{Uniforms, Vertices};
 pub use directions::Directions;
 pub use distance::Distance;
 pub use equiangular::Equiangular;
