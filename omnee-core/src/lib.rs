@@ -15,8 +15,10 @@
 //! - [`real`]: the two precisions (`f32` for renderers, `f64` for references);
 //! - [`circumcircle`]: the map (θ, β, φ) ↔ x1 and the triangle's measures;
 //! - [`phase`]: phase functions with cancellation-free angles;
-//! - [`sampling`]: OMNEE and its baselines, equiangular and distance sampling;
-//! - [`mis`]: multiple importance sampling over any set of techniques;
+//! - [`sampling`]: OMNEE and its baselines, equiangular and distance sampling,
+//!   and a vectorised batch entry point for OMNEE with Henyey–Greenstein;
+//! - [`mis`]: multiple importance sampling over any set of techniques, and
+//!   [`mis::OmneeMis`], OMNEE with a companion behind a backward cone;
 //! - [`medium`]: homogeneous coefficients and the region the medium fills;
 //! - [`reference`](mod@reference): the point-to-point test problem and its quadrature value;
 //! - [`quadrature`]: the f64 adaptive Gauss–Kronrod rule behind it;
