@@ -152,8 +152,7 @@ impl Problem {
         theta_max: f64,
         seed: u32,
     ) -> Result<Self, Error> {
-        let spec = Spec::parse(spec)?;
-        let (phase, phase64) = (spec.build::<S>()?, spec.build::<f64>()?);
+        let (phase, phase64) = phases(spec)?;
         let (a, b) = (plane_point(x0), plane_point(x2));
         let connection = Connection::<S>::new(a, b, S::from_f64(theta_max))?;
         let medium = Homogeneous::<S>::new(S::from_f64(sigma_s), S::from_f64(sigma_a))?;
@@ -348,8 +347,7 @@ pub fn histogram(
             allowed: "(0, pi]",
         });
     }
-    let spec = Spec::parse(spec)?;
-    let (phase, phase64) = (spec.build::<S>()?, spec.build::<f64>()?);
+    let (phase, phase64) = phases(spec)?;
     let bins = bins as usize;
     let width = theta_hi / bins as f64;
     let mut out = vec![0.0; 2 * bins];
@@ -394,7 +392,7 @@ pub fn quantile(spec: &str, u: f64) -> Result<f64, Error> {
             allowed: "[0, 1)",
         });
     }
-    let phase = Spec::parse(spec)?.build::<f64>()?;
+    let phase = reference_phase(spec)?;
     let cdf = |bits| phase.cdf(Deflection::from_theta(f64::from_bits(bits)));
     if cdf(0) >= u {
         return Ok(0.0);
@@ -412,9 +410,24 @@ pub fn quantile(spec: &str, u: f64) -> Result<f64, Error> {
     Ok(f64::from_bits(hi))
 }
 
+/// The phase function of `spec` in the sampling precision and in f64 (one
+/// copy of the parsing and building for the exports that sample).
+#[inline(never)]
+fn phases(spec: &str) -> Result<(Analytic<S>, Analytic<f64>), Error> {
+    let spec = Spec::parse(spec)?;
+    Ok((spec.build::<S>()?, spec.build::<f64>()?))
+}
+
+/// The f64 phase function of `spec` (one copy of the parsing and building
+/// for the exports that need no f32 one).
+#[inline(never)]
+fn reference_phase(spec: &str) -> Result<Analytic<f64>, Error> {
+    Spec::parse(spec)?.build::<f64>()
+}
+
 /// The mean cosine ⟨cos θ⟩ of the phase function `spec`.
 pub fn mean_cosine(spec: &str) -> Result<f64, Error> {
-    Ok(Spec::parse(spec)?.build::<f64>()?.mean_cosine())
+    Ok(reference_phase(spec)?.mean_cosine())
 }
 
 /// The talk's "waterlevel" triangle `x0, x1, x2` in the plane, with `x1` on
