@@ -20,9 +20,9 @@ use omnee_core::real::{Real, Vector};
 use omnee_core::reference::PointToPoint;
 use omnee_core::sampling::{Connection, Directions, Equiangular, Omnee, Sample, Technique};
 
-/// The precision of sampling: f32, a renderer's (references are f64). It is
-/// 1.7× faster in the browser than f64 sampling; f64 would make the module
-/// 11 % smaller (one copy of each routine; README.md).
+/// The precision of sampling: f32, a renderer's (references are f64). It was
+/// 1.7× faster in the browser than f64 sampling; f64 makes the module smaller
+/// (one copy of each routine; README.md has the measured options).
 pub type S = f32;
 type Vec3 = <S as Real>::Vec3;
 
