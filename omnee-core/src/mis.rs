@@ -183,75 +183,76 @@ impl<F: Real, const N: usize> Technique<F> for OneSample<'_, F, N> {
     }
 }
 
-/// One-sample MIS of OMNEE over the integrand's whole range θ < θmax and a
-/// companion technique (equiangular, say) in the backward cone θ ≥ θmin,
-/// the companion chosen with probability `c`. The weights are the balance
-/// heuristic behind the cone and all OMNEE in front of it,
+/// OMNEE over the integrand's whole range θ < θmax, always, and with
+/// probability `c` (the companion's rate) one more vertex from a companion
+/// technique (equiangular, say) restricted to the backward cone θ ≥ θmin:
+/// multi-sample MIS with the expected counts 1 and `c` (Veach 1997, §9.2),
+/// balance heuristic behind the cone and OMNEE alone in front of it,
 ///
-/// `w_OMNEE = 1` for θ(x1) < θmin, else `w_i = c_i p_i / ((1 − c) p_OMNEE + c p_companion)`,
+/// `w_OMNEE = 1`, `w_companion = 0` for θ(x1) < θmin, else
+/// `w_OMNEE = p_O / (p_O + c p_C)`, `w_companion = c p_C / (p_O + c p_C)`,
 ///
-/// a partition of unity, so the estimate stays unbiased. In front of the
-/// cone OMNEE's weight θ/(s sin θ) is small (below 3.4/s for θmin = 3π/4) and
-/// no second density is evaluated: the common sample costs OMNEE alone.
-/// Behind it, where OMNEE's weight grows like 1/(π − θ), the companion takes
-/// over. Companion samples in front of the cone are discarded.
+/// a partition of unity, so the sum over the returned vertices of
+/// `f_c · weight` is unbiased; every weight is `k / pdf` with
+/// `pdf = p_O + c p_C` behind the cone and `p_O` in front of it.
 ///
-/// As a [`Technique`]: `pdf = (1 − c) p_OMNEE + c p_companion` behind the cone
-/// and `(1 − c) p_OMNEE` in front of it (the density of the returned points),
-/// and every returned weight is `k/pdf`. Not invertible.
+/// In front of the cone OMNEE's weight θ/(s sin θ) stays small (below 3.3/s
+/// for θmin = 3π/4) and no second density is evaluated: the common draw
+/// costs OMNEE alone. Behind it, where OMNEE's weight grows like 1/(π − θ),
+/// the companion takes over. OMNEE's vertex is never dropped in favour of
+/// the companion's: a one-sample mixture that draws the companion instead
+/// with probability `c` adds a relative variance of about `c/(1 − c)` to
+/// every estimate, which for a forward peak (where OMNEE's own relative
+/// variance is 10⁻³) costs more than the companion can win.
 #[derive(Clone, Copy)]
 pub struct OmneeMis<'a, F: Real, P> {
     omnee: Omnee<F, P>,
     companion: &'a dyn Technique<F>,
-    share: F,
+    rate: F,
     /// `1 − cos θmin`.
     one_minus_cos_min: F,
 }
 
 impl<'a, F: Real, P: PhaseFunction<F>> OmneeMis<'a, F, P> {
-    /// The companion's share used by [`Self::recommended`]: small, since it
-    /// only insures the cone (on the slab scene of `omnee-cli` at g = 0 and
-    /// 0.5, 0.05 was more efficient than 0.1 and 0.2).
-    pub const SHARE: f64 = 0.05;
+    /// The companion's rate used by [`Self::recommended`].
+    pub const RATE: f64 = 0.1;
 
     /// The cone's edge used by [`Self::recommended`], θmin = 3π/4: in front
     /// of it OMNEE's weight θ/(s sin θ) is at most 3π/(4 sin(3π/4)) / s ≈ 3.3/s.
     pub const THETA_MIN: f64 = 0.75 * core::f64::consts::PI;
 
-    /// [`Self::new`] with [`Self::SHARE`] and [`Self::THETA_MIN`], whose
+    /// [`Self::new`] with [`Self::RATE`] and [`Self::THETA_MIN`], whose
     /// `1 − cos θmin = 1 + 1/√2` needs no trigonometry per connection.
     pub fn recommended(omnee: Omnee<F, P>, companion: &'a dyn Technique<F>) -> Self {
         let one_minus_cos_min = F::ONE + F::from_f64(core::f64::consts::FRAC_1_SQRT_2);
         Self {
             omnee,
             companion,
-            share: F::from_f64(Self::SHARE),
+            rate: F::from_f64(Self::RATE),
             one_minus_cos_min,
         }
     }
 
-    /// OMNEE with `companion` behind the cone θ ≥ `theta_min`, chosen with
-    /// probability `share` ∈ [0, 1) (0: OMNEE alone).
+    /// OMNEE with `companion` behind the cone θ ≥ `theta_min`, drawn with
+    /// probability `rate` ∈ [0, 1] (0: OMNEE alone).
     pub fn new(
         omnee: Omnee<F, P>,
         companion: &'a dyn Technique<F>,
-        share: F,
+        rate: F,
         theta_min: Deflection<F>,
     ) -> Result<Self, crate::Error> {
-        crate::error::check_closed("share", share.to_f64(), 0.0, 1.0, "[0, 1)")?;
-        if share == F::ONE {
-            return Err(crate::Error::OutOfRange {
-                field: "share",
-                value: 1.0,
-                allowed: "[0, 1)",
-            });
-        }
+        crate::error::check_closed("rate", rate.to_f64(), 0.0, 1.0, "[0, 1]")?;
         Ok(Self {
             omnee,
             companion,
-            share,
+            rate,
             one_minus_cos_min: theta_min.one_minus_cos,
         })
+    }
+
+    /// The companion's rate `c`.
+    pub fn rate(&self) -> F {
+        self.rate
     }
 
     /// Whether `x1` lies in the backward cone θ ≥ θmin.
@@ -262,55 +263,55 @@ impl<'a, F: Real, P: PhaseFunction<F>> OmneeMis<'a, F, P> {
             .deflection(x1)
             .is_some_and(|(d, _, _)| d.one_minus_cos >= self.one_minus_cos_min)
     }
-}
 
-impl<F: Real, P: PhaseFunction<F>> Technique<F> for OmneeMis<'_, F, P> {
-    /// OMNEE for `u0 < 1 − c` (`u0` rescaled), else the companion.
-    fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
-        let c_omnee = F::ONE - self.share;
-        if u[0] < c_omnee {
-            let u0 = (u[0] / c_omnee).clamp_to(F::ZERO, F::ONE_MINUS_EPSILON);
-            let (s, d) = self.omnee.sample_deflection([u0, u[1], u[2]])?;
-            let own = c_omnee * s.pdf;
-            let other = if d.one_minus_cos >= self.one_minus_cos_min && self.share > F::ZERO {
-                self.share * self.companion.pdf(s.x1)
-            } else {
-                F::ZERO
-            };
-            Some(Sample {
-                x1: s.x1,
-                pdf: saturate(own + other),
-                weight: saturate(Heuristic::Balance.weight(own, [other]) * s.weight / c_omnee),
-            })
+    /// The vertices of one estimate from six uniform numbers: OMNEE's from
+    /// `u[0..3]`, and the companion's from `u[3..6]` when `u[3] < c`
+    /// (`u[3]/c` then its first number). A companion vertex in front of the
+    /// cone is dropped (its weight there is 0).
+    pub fn sample(&self, u: [F; 6]) -> [Option<Sample<F>>; 2] {
+        let omnee = self
+            .omnee
+            .sample_deflection([u[0], u[1], u[2]])
+            .map(|(s, d)| {
+                if d.one_minus_cos >= self.one_minus_cos_min && self.rate > F::ZERO {
+                    self.combine(s, self.rate * self.companion.pdf(s.x1), F::ONE)
+                } else {
+                    s
+                }
+            });
+        let companion = if u[3] < self.rate {
+            let u3 = (u[3] / self.rate).clamp_to(F::ZERO, F::ONE_MINUS_EPSILON);
+            self.companion
+                .sample([u3, u[4], u[5]])
+                .filter(|s| self.behind(s.x1))
+                .map(|s| self.combine(s, self.omnee.pdf(s.x1), self.rate))
         } else {
-            let u0 = ((u[0] - c_omnee) / self.share).clamp_to(F::ZERO, F::ONE_MINUS_EPSILON);
-            let s = self.companion.sample([u0, u[1], u[2]])?;
-            if !self.behind(s.x1) {
-                return None;
-            }
-            let own = self.share * s.pdf;
-            let other = c_omnee * self.omnee.pdf(s.x1);
-            Some(Sample {
-                x1: s.x1,
-                pdf: saturate(own + other),
-                weight: saturate(Heuristic::Balance.weight(own, [other]) * s.weight / self.share),
-            })
+            None
+        };
+        [omnee, companion]
+    }
+
+    /// A vertex of the technique drawn `count` times on average, with the
+    /// other's `count · pdf` at its point: weight `k/(p_O + c p_C)`, the
+    /// balance heuristic over the expected counts, and that sum as its pdf.
+    #[inline]
+    fn combine(&self, s: Sample<F>, other: F, count: F) -> Sample<F> {
+        let own = count * s.pdf;
+        Sample {
+            x1: s.x1,
+            pdf: saturate(own + other),
+            weight: saturate(Heuristic::Balance.weight(own, [other]) * s.weight / count),
         }
     }
 
-    /// `(1 − c) p_OMNEE(x1) + c p_companion(x1)` behind the cone, the first
-    /// term alone in front of it.
-    fn pdf(&self, x1: F::Vec3) -> F {
-        let omnee = (F::ONE - self.share) * self.omnee.pdf(x1);
-        if self.share > F::ZERO && self.behind(x1) {
-            saturate(omnee + self.share * self.companion.pdf(x1))
+    /// The combined density `p_O(x1) + c p_C(x1)` behind the cone, `p_O(x1)`
+    /// in front of it: the `pdf` the vertices come with.
+    pub fn pdf(&self, x1: F::Vec3) -> F {
+        let omnee = self.omnee.pdf(x1);
+        if self.rate > F::ZERO && self.behind(x1) {
+            saturate(omnee + self.rate * self.companion.pdf(x1))
         } else {
             omnee
         }
-    }
-
-    /// Not invertible: both techniques reach the points behind the cone.
-    fn invert(&self, _x1: F::Vec3) -> Option<[F; 3]> {
-        None
     }
 }

@@ -312,28 +312,45 @@ fn every_technique_agrees_with_the_quadrature_reference() {
         )
         .unwrap();
         let omnee_has_finite_variance = cfg.theta_max <= HALF || cfg.tau > 0.0;
+        // One estimate per call: a technique's vertex, or OmneeMis's pair.
+        type Estimator<'a> = std::boxed::Box<dyn FnMut(&mut SplitMix) -> f64 + 'a>;
         let mut techniques: std::vec::Vec<(&str, &dyn Technique<f64>, usize)> =
             std::vec![("mis omnee(θ<π/2)+equiangular", &omnee_equi, 400_000)];
         if omnee_has_finite_variance {
             techniques.push(("omnee", &omnee, 200_000));
             techniques.push(("mis omnee+distance", &omnee_dist, 400_000));
-            techniques.push((
-                "mis omnee+equiangular behind 3π/4",
-                &omnee_backward,
-                400_000,
-            ));
         }
         if cfg.g <= 0.5 {
             techniques.push(("equiangular", &equi, 1_000_000));
         }
-        for (name, t, n) in techniques {
+        let mut estimators: std::vec::Vec<(&str, Estimator<'_>, usize)> = techniques
+            .into_iter()
+            .map(|(name, t, n)| {
+                let e: Estimator<'_> = std::boxed::Box::new(move |rng: &mut SplitMix| {
+                    t.sample(uniform3(rng))
+                        .map_or(0.0, |x| problem.estimate(&x))
+                });
+                (name, e, n)
+            })
+            .collect();
+        if omnee_has_finite_variance {
+            let e: Estimator<'_> = std::boxed::Box::new(|rng: &mut SplitMix| {
+                let [a, b, c] = uniform3(rng);
+                let [d, e, f] = uniform3(rng);
+                omnee_backward
+                    .sample([a, b, c, d, e, f])
+                    .iter()
+                    .flatten()
+                    .map(|x| problem.estimate(x))
+                    .sum()
+            });
+            estimators.push(("mis omnee + equiangular behind 3π/4", e, 400_000));
+        }
+        for (name, mut estimate, n) in estimators {
             seed += 1;
             compared += 1;
             let mut rng = SplitMix(seed);
-            let (mean, se) = mean_and_stderr(n, || {
-                t.sample(uniform3(&mut rng))
-                    .map_or(0.0, |x| problem.estimate(&x))
-            });
+            let (mean, se) = mean_and_stderr(n, || estimate(&mut rng));
             std::println!(
                 "g {} τ {} θmax {:.3} {name}: {mean:.6e} ± {se:.1e} (quadrature {want:.6e})",
                 cfg.g,
@@ -639,6 +656,10 @@ fn f32_keeps_its_digits_at_the_edges_of_the_sample_space() {
 fn omnee_mis_returns_its_density_and_the_kernel_over_it() {
     use crate::phase::Deflection;
     let c = connection(core::f64::consts::PI);
+    let uniform6 = |rng: &mut SplitMix| {
+        let ([a, b, c], [d, e, f]) = (uniform3(rng), uniform3(rng));
+        [a, b, c, d, e, f]
+    };
     for g in [-0.7, 0.0, 0.9] {
         let hg = HenyeyGreenstein::new(g).unwrap();
         let omnee = Omnee::new(c, hg);
@@ -647,43 +668,54 @@ fn omnee_mis_returns_its_density_and_the_kernel_over_it() {
         let mis = OmneeMis::new(omnee, &equi, 0.2, cone).unwrap();
         let alone = OmneeMis::new(omnee, &equi, 0.0, cone).unwrap();
         let mut rng = SplitMix(31);
-        let (mut behind, mut from_companion) = (0, 0);
+        let (mut behind, mut companions) = (0, 0);
         for _ in 0..20_000 {
-            let u = uniform3(&mut rng);
-            // Share 0 is OMNEE itself.
-            assert_eq!(alone.sample(u), omnee.sample(u), "g {g}: {u:?}");
-            let Some(s) = mis.sample(u) else { continue };
-            let (d, _, _) = c.deflection(s.x1).unwrap();
-            // Off the cone's edge, where the sampled and the recomputed θ
-            // may classify a point differently by rounding.
-            if (d.one_minus_cos / cone.one_minus_cos - 1.0).abs() < 1e-9 {
-                continue;
-            }
-            behind += usize::from(d.one_minus_cos > cone.one_minus_cos);
-            from_companion += usize::from(u[0] >= 0.8);
-            let pdf = mis.pdf(s.x1);
-            assert!((pdf / s.pdf - 1.0).abs() < 1e-9, "g {g}: {pdf} vs {s:?}");
-            let k = c.kernel(&hg, s.x1);
-            assert!(
-                (k / s.pdf / s.weight - 1.0).abs() < 1e-9,
-                "g {g}: k/pdf {} vs weight {}",
-                k / s.pdf,
-                s.weight
+            let u = uniform6(&mut rng);
+            // Rate 0 is OMNEE itself.
+            let [a, b, c3] = [u[0], u[1], u[2]];
+            assert_eq!(
+                alone.sample(u),
+                [omnee.sample([a, b, c3]), None],
+                "g {g}: {u:?}"
             );
-            // The companion returns points behind the cone only.
-            assert!(u[0] < 0.8 || d.one_minus_cos > cone.one_minus_cos);
+            let pair = mis.sample(u);
+            // The companion comes with probability 0.2 (u[3] < 0.2).
+            assert!(pair[1].is_none() || u[3] < 0.2);
+            for (k, s) in pair.iter().enumerate() {
+                let Some(s) = s else { continue };
+                let (d, _, _) = c.deflection(s.x1).unwrap();
+                // Off the cone's edge, where the sampled and the recomputed θ
+                // may classify a point differently by rounding.
+                if (d.one_minus_cos / cone.one_minus_cos - 1.0).abs() < 1e-9 {
+                    continue;
+                }
+                let is_behind = d.one_minus_cos > cone.one_minus_cos;
+                behind += usize::from(is_behind);
+                companions += k;
+                let pdf = mis.pdf(s.x1);
+                assert!((pdf / s.pdf - 1.0).abs() < 1e-9, "g {g}: {pdf} vs {s:?}");
+                let kernel = c.kernel(&hg, s.x1);
+                assert!(
+                    (kernel / s.pdf / s.weight - 1.0).abs() < 1e-9,
+                    "g {g}: k/pdf {} vs weight {}",
+                    kernel / s.pdf,
+                    s.weight
+                );
+                // The companion returns points behind the cone only.
+                assert!(k == 0 || is_behind);
+            }
         }
         assert!(
-            behind > 100 && from_companion > 100,
-            "g {g}: {behind} {from_companion}"
+            behind > 100 && companions > 100,
+            "g {g}: {behind} {companions}"
         );
-        // The recommended combination is share 0.05 behind 3π/4.
+        // The recommended combination is rate 0.1 behind 3π/4.
         type Mis<'a> = OmneeMis<'a, f64, HenyeyGreenstein<f64>>;
         let recommended = OmneeMis::recommended(omnee, &equi);
         let cone = Deflection::from_theta(Mis::THETA_MIN);
-        let spelled_out = OmneeMis::new(omnee, &equi, Mis::SHARE, cone).unwrap();
+        let spelled_out = OmneeMis::new(omnee, &equi, Mis::RATE, cone).unwrap();
         for _ in 0..2000 {
-            let u = uniform3(&mut rng);
+            let u = uniform6(&mut rng);
             assert_eq!(recommended.sample(u), spelled_out.sample(u), "g {g}: {u:?}");
         }
     }
