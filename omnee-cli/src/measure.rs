@@ -282,8 +282,12 @@ fn problem(a: &ProblemArgs) -> Result<Problem> {
     })
 }
 
-/// One draw: `(u, Some((x1, pdf, weight, f_c·weight)))`.
-type Draw<F> = ([F; 3], Option<([f64; 3], f64, f64, f64)>);
+/// A vertex of a draw: `(x1, pdf, weight, f_c·weight)`.
+type Vertex = ([f64; 3], f64, f64, f64);
+
+/// One draw: its uniform numbers and vertices (the technique's own and, for
+/// `mis`, the companion's).
+type Draw<F> = ([F; 6], [Option<Vertex>; 2]);
 
 /// Runs `f` with a sampler for the problem in precision `F`.
 fn with_sampler<F: Real, T>(
@@ -314,17 +318,17 @@ fn with_sampler<F: Real, T>(
     };
     let tech = p.choice.tech;
     let draw = |rng: &mut Rng| -> Draw<F> {
-        let u = rng.uniform3::<F>();
-        let s = setup.sample(tech, connection, u).map(|s| {
+        let d = setup.sample(tech, connection, rng);
+        let vertex = |s: &omnee_core::sampling::Sample<F>| {
             let [x, y, z] = s.x1.to_array();
             (
                 [x.to_f64(), y.to_f64(), z.to_f64()],
                 s.pdf.to_f64(),
                 s.weight.to_f64(),
-                problem.estimate(&s).to_f64(),
+                problem.estimate(s).to_f64(),
             )
-        });
-        (u, s)
+        };
+        (d.u, d.vertices.map(|v| v.as_ref().map(vertex)))
     };
     Ok(f(&draw, &problem))
 }
@@ -372,12 +376,9 @@ fn run_estimate<F: Real>(
                 let mut m = Moments::default();
                 let mut accepted = 0u64;
                 for _ in 0..count {
-                    let (_, s) = draw(&mut rng);
-                    let x = s.map_or(0.0, |(_, _, _, e)| {
-                        accepted += 1;
-                        e
-                    });
-                    m.push(x);
+                    let (_, vertices) = draw(&mut rng);
+                    accepted += u64::from(vertices[0].is_some());
+                    m.push(vertices.iter().flatten().map(|v| v.3).sum());
                 }
                 (m, accepted)
             })
@@ -414,11 +415,14 @@ pub fn samples(a: SamplesArgs) -> Result<()> {
     };
     match a.format {
         SampleFormat::Csv => {
-            w(writeln!(out, "draw,u0,u1,u2,x,y,z,pdf,weight,estimate"))?;
-            for (i, u, (x, pdf, weight, e)) in &rows {
+            w(writeln!(
+                out,
+                "draw,vertex,u0,u1,u2,x,y,z,pdf,weight,estimate"
+            ))?;
+            for (i, k, u, (x, pdf, weight, e)) in &rows {
                 w(writeln!(
                     out,
-                    "{i},{},{},{},{},{},{},{pdf},{weight},{e}",
+                    "{i},{k},{},{},{},{},{},{},{pdf},{weight},{e}",
                     u[0], u[1], u[2], x[0], x[1], x[2]
                 ))?;
             }
@@ -426,8 +430,8 @@ pub fn samples(a: SamplesArgs) -> Result<()> {
         SampleFormat::Json => {
             let list: Vec<Value> = rows
                 .iter()
-                .map(|(i, u, (x, pdf, weight, e))| {
-                    json!({"draw": i, "u": u, "x1": x, "pdf": pdf, "weight": weight, "estimate": e})
+                .map(|(i, k, u, (x, pdf, weight, e))| {
+                    json!({"draw": i, "vertex": k, "u": u, "x1": x, "pdf": pdf, "weight": weight, "estimate": e})
                 })
                 .collect();
             let (tech, requested, reason) = choice_json(&p.choice);
@@ -441,7 +445,8 @@ pub fn samples(a: SamplesArgs) -> Result<()> {
     w(out.flush())
 }
 
-type Row = (u64, [f64; 3], ([f64; 3], f64, f64, f64));
+/// `(draw, vertex, its three uniform numbers, vertex)`.
+type Row = (u64, usize, [f64; 3], Vertex);
 
 fn sample_rows<F: Real>(a: &ProblemArgs, p: &Problem, count: u64) -> Result<Vec<Row>> {
     with_sampler::<F, _>(a, p, |draw, _| {
@@ -450,9 +455,12 @@ fn sample_rows<F: Real>(a: &ProblemArgs, p: &Problem, count: u64) -> Result<Vec<
         for k in 0..chunks {
             let mut rng = Rng::stream(a.seed, k, 0x6573_7469);
             for j in 0..CHUNK.min(count - k * CHUNK) {
-                let (u, s) = draw(&mut rng);
-                if let Some(s) = s {
-                    rows.push((k * CHUNK + j, u.map(|x| x.to_f64()), s));
+                let (u, vertices) = draw(&mut rng);
+                for (v, vertex) in vertices.into_iter().enumerate() {
+                    if let Some(s) = vertex {
+                        let own = [u[3 * v], u[3 * v + 1], u[3 * v + 2]].map(|x| x.to_f64());
+                        rows.push((k * CHUNK + j, v, own, s));
+                    }
                 }
             }
         }

@@ -2,6 +2,7 @@
 //! `probe`, `estimate` and `samples`, and the `auto` choice between them.
 
 use crate::error::{CliError, Result};
+use crate::rng::Rng;
 use omnee_core::Real;
 use omnee_core::medium::Region;
 use omnee_core::mis::OmneeMis;
@@ -20,10 +21,10 @@ pub enum Tech {
     Equiangular,
     /// Exponential free-flight distance along a direction from the receiver.
     Distance,
-    /// OMNEE over the integrand's whole range with equiangular sampling
-    /// behind the backward cone θ ≥ 3π/4, chosen with probability 0.05
-    /// ([`OmneeMis::recommended`]): one-sample MIS that covers backward
-    /// scattering where OMNEE's weight grows.
+    /// OMNEE over the integrand's whole range, and with probability 0.1 an
+    /// equiangular vertex behind the backward cone θ ≥ 3π/4
+    /// ([`OmneeMis::recommended`]): MIS that covers backward scattering where
+    /// OMNEE's weight grows.
     Mis,
 }
 
@@ -132,25 +133,48 @@ pub struct Setup<'p, F: Real, P> {
     pub sigma_t: F,
 }
 
+/// One draw of a technique: the uniform numbers it took and its vertices,
+/// the technique's own and, for [`Tech::Mis`], the companion's (from
+/// `u[3..6]`). The once-more estimate is the sum of `f_c · weight` over them.
+#[derive(Clone, Copy, Debug)]
+pub struct Draw<F: Real> {
+    /// The uniform numbers: `u[0..3]` for the first vertex, `u[3..6]` for the
+    /// companion's (drawn by `mis` only, else 0).
+    pub u: [F; 6],
+    /// The vertices; `None` where the numbers give no vertex.
+    pub vertices: [Option<Sample<F>>; 2],
+}
+
 impl<F: Real, P: PhaseFunction<F>> Setup<'_, F, P> {
-    /// Samples `x1` for `connection` (whose θmax is the integrand's) with
-    /// `tech` from three uniform numbers.
-    pub fn sample(&self, tech: Tech, connection: Connection<F>, u: [F; 3]) -> Option<Sample<F>> {
+    /// One draw for `connection` (whose θmax is the integrand's) with `tech`:
+    /// three uniform numbers from `rng`, six for `mis`.
+    pub fn sample(&self, tech: Tech, connection: Connection<F>, rng: &mut Rng) -> Draw<F> {
+        let [a, b, c] = rng.uniform3::<F>();
+        let one = |s: Option<Sample<F>>| Draw {
+            u: [a, b, c, F::ZERO, F::ZERO, F::ZERO],
+            vertices: [s, None],
+        };
         match tech {
-            Tech::Omnee => Omnee::new(connection, self.phase).sample(u),
-            Tech::Equiangular => self.equiangular(connection).sample(u),
-            Tech::Distance => Distance::new(
+            Tech::Omnee => one(Omnee::new(connection, self.phase).sample([a, b, c])),
+            Tech::Equiangular => one(self.equiangular(connection).sample([a, b, c])),
+            Tech::Distance => one(Distance::new(
                 connection,
                 self.phase,
                 self.directions,
                 self.region,
                 self.sigma_t,
             )
-            .ok()?
-            .sample(u),
+            .ok()
+            .and_then(|t| t.sample([a, b, c]))),
             Tech::Mis => {
+                let [d, e, f] = rng.uniform3::<F>();
+                let u = [a, b, c, d, e, f];
                 let equiangular = self.equiangular(connection);
-                OmneeMis::recommended(Omnee::new(connection, self.phase), &equiangular).sample(u)
+                let mis = OmneeMis::recommended(Omnee::new(connection, self.phase), &equiangular);
+                Draw {
+                    u,
+                    vertices: mis.sample(u),
+                }
             }
         }
     }

@@ -20,7 +20,7 @@ pub struct Stats {
     pub connections: u64,
     /// Connections not sampled: the θ < θmax region cannot reach the slab.
     pub skipped_unreachable: u64,
-    /// Technique draws that returned no `x1` or one outside the medium.
+    /// Technique draws whose own vertex was missing (no `x1` from its numbers).
     pub no_vertex: u64,
     /// Contributions below the Russian roulette threshold that were dropped.
     pub roulette_dropped: u64,
@@ -544,7 +544,6 @@ impl<'a> World<'a> {
             stats.skipped_unreachable += 1;
             return 0.0;
         }
-        let u = rng.uniform3::<f32>();
         let Ok(connection) = Connection::new(x0, p, how.theta_max) else {
             return 0.0;
         };
@@ -563,15 +562,36 @@ impl<'a> World<'a> {
             region: self.region,
             sigma_t: self.sigma_t,
         };
-        let sample = match setup.sample(how.tech, connection, u) {
-            // The floor is opaque: nothing scatters below it.
-            Some(s) if s.weight > 0.0 && self.in_slab(s.x1) && s.x1.z >= self.floor_z => s,
-            _ => {
-                stats.no_vertex += 1;
-                return 0.0;
-            }
-        };
+        let [first, companion] = setup.sample(how.tech, connection, rng).vertices;
+        if first.is_none() {
+            stats.no_vertex += 1;
+        }
+        let light = (x0, n0, emitted);
+        [first, companion]
+            .into_iter()
+            .flatten()
+            .map(|s| self.once_more_vertex(light, (p, n), s, rng, rr, stats))
+            .sum()
+    }
+
+    /// The contribution `f_c · weight` of one vertex `x1` of a once-more
+    /// connection from the light point `(x0, normal, L/pdf_A)` to the
+    /// receiver `(p, n)`: the cosines, closed-form transmittance on both legs,
+    /// σs, then Russian roulette and the visibility tests. 0 for a vertex
+    /// outside the slab (or below the opaque floor) or with weight 0.
+    fn once_more_vertex(
+        &self,
+        (x0, n0, emitted): (Vec3, Option<Vec3>, f32),
+        (p, n): (Vec3, Vec3),
+        sample: omnee_core::sampling::Sample<f32>,
+        rng: &mut Rng,
+        rr: (f32, f32),
+        stats: &mut Stats,
+    ) -> f32 {
         let x1 = sample.x1;
+        if !(sample.weight > 0.0 && self.in_slab(x1) && x1.z >= self.floor_z) {
+            return 0.0;
+        }
         let (a, b) = (x1 - x0, x1 - p);
         let (d1, d2) = (a.length(), b.length());
         let cos0 = match n0 {

@@ -1083,7 +1083,7 @@ fn samples_lists_x1_with_pdf_and_weight() {
     let mut lines = text.lines();
     assert_eq!(
         lines.next(),
-        Some("draw,u0,u1,u2,x,y,z,pdf,weight,estimate")
+        Some("draw,vertex,u0,u1,u2,x,y,z,pdf,weight,estimate")
     );
     let rows: Vec<Vec<f64>> = lines
         .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
@@ -1091,7 +1091,9 @@ fn samples_lists_x1_with_pdf_and_weight() {
     // θ < π/2 keeps a draw with probability cdf(π/2) = 1 − B(0.7) ≈ 0.95.
     assert!(rows.len() > 400 && rows.len() <= 500, "{}", rows.len());
     for r in &rows {
-        let (x, y, z, pdf, w) = (r[4], r[5], r[6], r[7], r[8]);
+        // One vertex per draw for a single technique.
+        assert_eq!(r[1], 0.0);
+        let (x, y, z, pdf, w) = (r[5], r[6], r[7], r[8], r[9]);
         // Forward scattering stays inside the Thales ball over x0x2.
         assert!(x * x + y * y + (z - 0.5) * (z - 0.5) <= 0.25 + 1e-9);
         assert!(pdf > 0.0 && w > 0.0);
@@ -1109,7 +1111,24 @@ fn samples_lists_x1_with_pdf_and_weight() {
     let v = json(&o);
     assert_eq!(v["draws"], 500);
     assert_eq!(v["returned"].as_u64().unwrap() as usize, rows.len());
-    assert_eq!(v["samples"][0]["pdf"].as_f64().unwrap(), rows[0][7]);
+    assert_eq!(v["samples"][0]["pdf"].as_f64().unwrap(), rows[0][8]);
+    // mis: every draw has OMNEE's vertex (θmax = π/2 here), and about one in
+    // ten an equiangular one behind 3π/4, which θ < π/2 gives weight 0.
+    let mut mis = base.to_vec();
+    let at = mis.iter().position(|&a| a == "omnee").unwrap();
+    mis[at] = "mis";
+    let o = omnee()
+        .args(&mis)
+        .args(["--format", "json"])
+        .output()
+        .unwrap();
+    let v = json(&o);
+    let list = v["samples"].as_array().unwrap();
+    let companions = list.iter().filter(|s| s["vertex"] == 1).count();
+    assert!(companions < 100, "{companions}");
+    for s in list.iter().filter(|s| s["vertex"] == 1) {
+        assert_eq!(s["estimate"], 0.0);
+    }
 }
 
 #[test]
