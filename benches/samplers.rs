@@ -14,8 +14,10 @@
 //!   The connection is `x0 = (0, 0, 1)`, `x2 = 0` (s = 1) in an infinite
 //!   medium, θmax = π (no early rejection); equiangular and distance draw ray
 //!   directions uniformly on the sphere, distance sampling uses σ = 1, and
-//!   `mis` is the CLI's (`OmneeMis::recommended`: OMNEE, and equiangular
-//!   behind 3π/4 with probability 0.05).
+//!   `mis` is the CLI's (`OmneeMis::recommended`: OMNEE's vertex, and with
+//!   probability 0.1 an equiangular one behind 3π/4; its "sample" is that
+//!   pair from six numbers, its "pdf" the combined density at OMNEE's
+//!   vertices).
 //! - `phase/<f32|f64>/<phase>`: the phase function alone, `sample_pdf(u)`.
 //! - `connection/f32/omnee-hg0.9`: a fresh connection per sample
 //!   (`Connection::new` for a moving `x0`, then an OMNEE sample), the cost a
@@ -175,12 +177,18 @@ fn techniques<F: Real, P: PhaseFunction<F> + Copy>(
     let distance =
         Distance::new(full, phase, Directions::Sphere, Region::Everywhere, F::ONE).unwrap();
     let mis = OmneeMis::recommended(omnee, &equiangular);
-    let all: [(&str, &dyn Technique<F>); 4] = [
+    let all: [(&str, &dyn Technique<F>); 3] = [
         ("omnee", &omnee),
         ("equiangular", &equiangular),
         ("distance", &distance),
-        ("mis", &mis),
     ];
+    // mis draws six numbers: a triple and the next one.
+    let u6: Vec<[F; 6]> = (0..BATCH)
+        .map(|i| {
+            let (a, b) = (us[i], us[(i + 1) % BATCH]);
+            [a[0], a[1], a[2], b[0], b[1], b[2]]
+        })
+        .collect();
 
     let mut group = c.benchmark_group(format!("sample/{precision}"));
     group.throughput(Throughput::Elements(BATCH as u64));
@@ -189,23 +197,48 @@ fn techniques<F: Real, P: PhaseFunction<F> + Copy>(
             b.iter(|| run_sample(t, &us))
         });
     }
+    group.bench_function(BenchmarkId::new("mis", name), |b| {
+        b.iter(|| {
+            let mut acc = F::ZERO;
+            for &u in &u6 {
+                for s in mis.sample(black_box(u)).iter().flatten() {
+                    acc += s.weight + s.pdf + s.x1.x();
+                }
+            }
+            acc
+        })
+    });
     group.finish();
 
     let mut group = c.benchmark_group(format!("pdf/{precision}"));
     group.throughput(Throughput::Elements(BATCH as u64));
-    for (tech, t) in all {
+    let vertices = |t: &dyn Technique<F>| -> Vec<F::Vec3> {
         // The first BATCH vertices the technique returns (some triples give none).
-        let x1s: Vec<F::Vec3> = uniforms_n::<F>(64 * BATCH)
+        uniforms_n::<F>(64 * BATCH)
             .into_iter()
             .filter_map(|u| t.sample(u))
             .map(|s| s.x1)
             .take(BATCH)
-            .collect();
+            .collect()
+    };
+    for (tech, t) in all {
+        let x1s = vertices(t);
         assert_eq!(x1s.len(), BATCH, "{tech} {name}: too few vertices");
         group.bench_function(BenchmarkId::new(tech, name), |b| {
             b.iter(|| run_pdf(t, &x1s))
         });
     }
+    // mis's combined density at OMNEE's vertices.
+    let x1s = vertices(&omnee);
+    group.bench_function(BenchmarkId::new("mis", name), |b| {
+        b.iter(|| {
+            let mut acc = F::ZERO;
+            for &x1 in &x1s {
+                acc += mis.pdf(black_box(x1));
+            }
+            acc
+        })
+    });
     group.finish();
 
     let mut group = c.benchmark_group(format!("phase/{precision}"));

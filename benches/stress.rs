@@ -16,7 +16,8 @@
 //! problem.
 //!
 //! For every triple, in each precision: `sample(u)` and `pdf(x1)` of the
-//! returned point. Counted: non-finite or negative `x1`/pdf/weight (target:
+//! returned point (for mis both of its vertices: OMNEE's, and the
+//! companion's when the rotated triple `(u1, u2, u0)` draws one). Counted: non-finite or negative `x1`/pdf/weight (target:
 //! none), samples returned in one precision only, and pdfs saturated to
 //! f32::MAX. Relative errors `|a32 − a64| / |a64|` of the sample's pdf and
 //! weight are histogrammed (log bins, 200 per decade) for the maximum and
@@ -282,11 +283,13 @@ impl<F: Real> Setup<F> {
         }
     }
 
-    /// The sample and the technique's pdf re-evaluated at its `x1`.
-    fn sample(&self, tech: usize, u: [F; 3]) -> Option<(Sample<F>, F)> {
+    /// The technique's vertices for `u` (one; for mis OMNEE's and, when
+    /// `u[1] < 0.1`, the companion's from the rotated triple `(u1, u2, u0)`)
+    /// with the pdf re-evaluated at each `x1`.
+    fn sample(&self, tech: usize, u: [F; 3]) -> [Option<(Sample<F>, F)>; 2] {
         let p = &self.phase;
         let eq = Equiangular::new(self.full, p, Directions::Sphere, Region::Everywhere);
-        let go = |t: &dyn Technique<F>| t.sample(u).map(|s| (s, t.pdf(s.x1)));
+        let go = |t: &dyn Technique<F>| [t.sample(u).map(|s| (s, t.pdf(s.x1))), None];
         match tech {
             0 => go(&Omnee::new(self.full, p)),
             1 => go(&eq),
@@ -298,7 +301,11 @@ impl<F: Real> Setup<F> {
                 self.sigma,
             )
             .expect("valid sigma")),
-            _ => go(&OmneeMis::recommended(Omnee::new(self.full, p), &eq)),
+            _ => {
+                let mis = OmneeMis::recommended(Omnee::new(self.full, p), &eq);
+                mis.sample([u[0], u[1], u[2], u[1], u[2], u[0]])
+                    .map(|v| v.map(|s| (s, mis.pdf(s.x1))))
+            }
         }
     }
 }
@@ -337,7 +344,7 @@ fn compare(errors: &mut Errors, stats: &mut [u64; 2], case: &Case, u: [f32; 3], 
 /// The largest relative change of the f64 pdf when one coordinate of `u`
 /// moves by one f32 ulp (up or down, staying in `[0, 1)`); moves that give
 /// no sample (a θmax or end-point decision) are skipped.
-fn conditioning(s64: &Setup<f64>, tech: usize, u: [f32; 3], pdf: f64) -> f64 {
+fn conditioning(s64: &Setup<f64>, tech: usize, vertex: usize, u: [f32; 3], pdf: f64) -> f64 {
     let mut worst = 0.0f64;
     for k in 0..3 {
         let bits = u[k].to_bits();
@@ -348,7 +355,7 @@ fn conditioning(s64: &Setup<f64>, tech: usize, u: [f32; 3], pdf: f64) -> f64 {
         for v in moves.into_iter().flatten() {
             let mut w = u;
             w[k] = v;
-            if let Some((s, _)) = s64.sample(tech, w.map(f64::from)) {
+            if let Some((s, _)) = s64.sample(tech, w.map(f64::from))[vertex] {
                 worst = worst.max((s.pdf / pdf - 1.0).abs());
             }
         }
@@ -391,66 +398,88 @@ fn run_case(case: &Case, n: u64, stats: &mut [Stats; 2]) {
             };
         }
         let stats = &mut stats[special as usize];
-        stats.samples += 1;
-        let a = s32.sample(case.tech, u);
-        let b = s64.sample(case.tech, u.map(|v| v as f64));
-        for (bad, neg) in [
-            a.as_ref().map(|(s, p)| bad_output(s, *p)),
-            b.as_ref().map(|(s, p)| bad_output(s, *p)),
-        ]
-        .into_iter()
-        .flatten()
-        {
-            if bad || neg {
-                if bad {
-                    stats.non_finite += 1;
-                }
-                if neg {
-                    stats.negative += 1;
-                }
-                if stats.bad.len() < 10 {
-                    stats.bad.push(format!("{} u={u:?}", case.describe()));
-                }
+        let (a2, b2) = (
+            s32.sample(case.tech, u),
+            s64.sample(case.tech, u.map(|v| v as f64)),
+        );
+        for vertex in 0..2 {
+            let (a, b) = (a2[vertex], b2[vertex]);
+            // The second vertex is mis's companion, drawn now and then.
+            if vertex == 1 && a.is_none() && b.is_none() {
+                continue;
+            }
+            stats.samples += 1;
+            compare_vertex(stats, case, &s64, vertex, u, a, b);
+        }
+    }
+}
+
+/// Counts and compares one vertex of the f32 and the f64 draw.
+fn compare_vertex(
+    stats: &mut Stats,
+    case: &Case,
+    s64: &Setup<f64>,
+    vertex: usize,
+    u: [f32; 3],
+    a: Option<(Sample<f32>, f32)>,
+    b: Option<(Sample<f64>, f64)>,
+) {
+    for (bad, neg) in [
+        a.as_ref().map(|(s, p)| bad_output(s, *p)),
+        b.as_ref().map(|(s, p)| bad_output(s, *p)),
+    ]
+    .into_iter()
+    .flatten()
+    {
+        if bad || neg {
+            if bad {
+                stats.non_finite += 1;
+            }
+            if neg {
+                stats.negative += 1;
+            }
+            if stats.bad.len() < 10 {
+                stats.bad.push(format!("{} u={u:?}", case.describe()));
             }
         }
-        match (&a, &b) {
-            (Some((sa, pa)), Some((sb, _))) => {
-                stats.returned32 += 1;
-                stats.returned64 += 1;
-                if sa.pdf == f32::MAX {
-                    stats.saturated32 += 1;
-                }
-                let mut counts = [0; 2];
-                compare(&mut stats.pdf, &mut counts, case, u, sa.pdf, sb.pdf);
-                if conditioning(&s64, case.tech, u, sb.pdf) <= COND_LIMIT {
-                    compare(&mut stats.pdf_well, &mut [0; 2], case, u, sa.pdf, sb.pdf);
-                } else {
-                    stats.ill_conditioned += 1;
-                }
-                compare(
-                    &mut stats.weight,
-                    &mut counts,
-                    case,
-                    u,
-                    sa.weight,
-                    sb.weight,
-                );
-                let x1 = sa.x1.to_array().map(|v| v as f64);
-                let at_point = s64.pdf(case.tech, glam::DVec3::from_array(x1));
-                compare(&mut stats.pdf_at_point, &mut counts, case, u, *pa, at_point);
-                stats.outside_f32_range += counts[0];
-                stats.zero_in_one += counts[1];
+    }
+    match (&a, &b) {
+        (Some((sa, pa)), Some((sb, _))) => {
+            stats.returned32 += 1;
+            stats.returned64 += 1;
+            if sa.pdf == f32::MAX {
+                stats.saturated32 += 1;
             }
-            (Some(_), None) => {
-                stats.returned32 += 1;
-                stats.one_only += 1;
+            let mut counts = [0; 2];
+            compare(&mut stats.pdf, &mut counts, case, u, sa.pdf, sb.pdf);
+            if conditioning(s64, case.tech, vertex, u, sb.pdf) <= COND_LIMIT {
+                compare(&mut stats.pdf_well, &mut [0; 2], case, u, sa.pdf, sb.pdf);
+            } else {
+                stats.ill_conditioned += 1;
             }
-            (None, Some(_)) => {
-                stats.returned64 += 1;
-                stats.one_only += 1;
-            }
-            (None, None) => {}
+            compare(
+                &mut stats.weight,
+                &mut counts,
+                case,
+                u,
+                sa.weight,
+                sb.weight,
+            );
+            let x1 = sa.x1.to_array().map(|v| v as f64);
+            let at_point = s64.pdf(case.tech, glam::DVec3::from_array(x1));
+            compare(&mut stats.pdf_at_point, &mut counts, case, u, *pa, at_point);
+            stats.outside_f32_range += counts[0];
+            stats.zero_in_one += counts[1];
         }
+        (Some(_), None) => {
+            stats.returned32 += 1;
+            stats.one_only += 1;
+        }
+        (None, Some(_)) => {
+            stats.returned64 += 1;
+            stats.one_only += 1;
+        }
+        (None, None) => {}
     }
 }
 

@@ -12,9 +12,10 @@
 //!   the attenuation, MATH.md §3);
 //! - `equiangular`: a uniform direction from `x2`, equiangular distance;
 //! - `distance`: a uniform direction from `x2`, free flight with σ = σt;
-//! - `mis`: the CLI's, `OmneeMis::recommended`: OMNEE over θ < π, and
-//!   equiangular behind the cone θ ≥ 3π/4 with probability 0.05 (balance
-//!   heuristic behind it, OMNEE alone in front).
+//! - `mis`: the CLI's, `OmneeMis::recommended`: OMNEE's vertex over θ < π,
+//!   and with probability 0.1 an equiangular vertex behind the cone
+//!   θ ≥ 3π/4 (balance heuristic behind it, OMNEE alone in front); an
+//!   estimate is the sum over both.
 //!
 //! For each configuration (phase function × τ) and each technique, `REPS`
 //! independent runs of N = 2^8 … 2^`MAX` samples are timed on one thread
@@ -44,7 +45,7 @@ use omnee::medium::{Homogeneous, Region};
 use omnee::mis::OmneeMis;
 use omnee::phase::{Phase, Spec};
 use omnee::reference::PointToPoint;
-use omnee::sampling::{Connection, Directions, Distance, Equiangular, Omnee, Technique};
+use omnee::sampling::{Connection, Directions, Distance, Equiangular, Omnee, Sample, Technique};
 use plotters::prelude::*;
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -101,22 +102,25 @@ fn reference(spec: &str, tau: f64, sigma_s: f64, theta_max: f64) -> f64 {
         .integral(&phase::<f64>(spec))
 }
 
-/// Mean and (unbiased) variance of `n` one-sample estimates.
+/// Mean and (unbiased) variance of `n` estimates, each the sum of
+/// `f_c · weight` over the vertices `draw` returns for six uniform numbers.
 #[inline(never)]
-fn run<T: Technique<f32> + ?Sized>(
-    t: &T,
+fn run(
+    draw: impl Fn([f32; 6]) -> [Option<Sample<f32>>; 2],
     p: &PointToPoint<f32>,
     n: u64,
     rng: &mut SplitMix,
+    numbers: usize,
 ) -> (f64, f64) {
     let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+    let mut u = [0.0f32; 6];
     for _ in 0..n {
-        let u = [rng.f32(), rng.f32(), rng.f32()];
-        if let Some(s) = t.sample(u) {
-            let e = p.estimate(&s) as f64;
-            sum += e;
-            sum2 += e * e;
+        for x in u.iter_mut().take(numbers) {
+            *x = rng.f32();
         }
+        let e: f64 = draw(u).iter().flatten().map(|s| p.estimate(s) as f64).sum();
+        sum += e;
+        sum2 += e * e;
     }
     let mean = sum / n as f64;
     let var = if n > 1 {
@@ -125,6 +129,11 @@ fn run<T: Technique<f32> + ?Sized>(
         0.0
     };
     (mean, var)
+}
+
+/// A technique's draw: its one vertex from the first three numbers.
+fn single<T: Technique<f32>>(t: &T) -> impl Fn([f32; 6]) -> [Option<Sample<f32>>; 2] + '_ {
+    move |u| [t.sample([u[0], u[1], u[2]]), None]
 }
 
 /// The techniques for one configuration, called by index (static dispatch
@@ -147,15 +156,13 @@ impl<'a> Techniques<'a> {
 
     fn run(&self, i: usize, p: &PointToPoint<f32>, n: u64, rng: &mut SplitMix) -> (f64, f64) {
         match i {
-            0 => run(&self.omnee, p, n, rng),
-            1 => run(&self.equiangular, p, n, rng),
-            2 => run(&self.distance, p, n, rng),
-            _ => run(
-                &OmneeMis::recommended(self.omnee, &self.equiangular),
-                p,
-                n,
-                rng,
-            ),
+            0 => run(single(&self.omnee), p, n, rng, 3),
+            1 => run(single(&self.equiangular), p, n, rng, 3),
+            2 => run(single(&self.distance), p, n, rng, 3),
+            _ => {
+                let mis = OmneeMis::recommended(self.omnee, &self.equiangular);
+                run(|u| mis.sample(u), p, n, rng, 6)
+            }
         }
     }
 }
@@ -291,8 +298,20 @@ fn math_table(out: &mut String) {
         );
         let omnee = Omnee::new(fwd.connection, &p);
         let eq = Equiangular::new(full.connection, &p, Directions::Sphere, Region::Everywhere);
-        let (m_o, v_o) = run(&omnee, &fwd, n, &mut SplitMix::new(seed(&[k as u64, 1])));
-        let (m_e, v_e) = run(&eq, &full, n, &mut SplitMix::new(seed(&[k as u64, 2])));
+        let (m_o, v_o) = run(
+            single(&omnee),
+            &fwd,
+            n,
+            &mut SplitMix::new(seed(&[k as u64, 1])),
+            3,
+        );
+        let (m_e, v_e) = run(
+            single(&eq),
+            &full,
+            n,
+            &mut SplitMix::new(seed(&[k as u64, 2])),
+            3,
+        );
         writeln!(
             out,
             "| {tau} | {g} | {} | {} ({}) | {} | {} ({}) | {} |",
