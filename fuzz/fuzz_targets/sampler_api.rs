@@ -107,6 +107,19 @@ fn check_technique<F: Real>(t: &dyn Technique<F>, name: &str, f: &mut Floats) {
     }
 }
 
+/// OmneeMis's pair of vertices from six fuzzed numbers, and its density at
+/// them and at a fuzzed point: finite, non-negative.
+fn check_omnee_mis<F: Real, P: PhaseFunction<F>>(mis: &OmneeMis<'_, F, P>, f: &mut Floats) {
+    let u = [(); 6].map(|_| F::from_f64(f.next()));
+    for s in mis.sample(u).iter().flatten() {
+        assert!(s.x1.is_finite() && ok(s.pdf) && ok(s.weight), "OmneeMis: {s:?}");
+        let p = mis.pdf(s.x1);
+        assert!(ok(p), "OmneeMis: pdf(sample) = {p:?}");
+    }
+    let p = mis.pdf(vec3::<F>(f));
+    assert!(ok(p), "OmneeMis: pdf = {p:?}");
+}
+
 fn run<F: Real>(f: &mut Floats) {
     let Some(p) = phase::<F>(f) else { return };
     check_phase(&p, f);
@@ -142,10 +155,10 @@ fn run<F: Real>(f: &mut Floats) {
     if let Ok(mis) = OneSample::new(techniques, probabilities, heuristic) {
         check_technique(&mis, "one-sample MIS", f);
     }
-    check_technique(&OmneeMis::recommended(omnee, &equiangular), "OmneeMis::recommended", f);
+    check_omnee_mis(&OmneeMis::recommended(omnee, &equiangular), f);
     let cone = Deflection::from_theta(F::from_f64(f.next()));
     if let Ok(mis) = OmneeMis::new(omnee, &distance, F::from_f64(f.next()), cone) {
-        check_technique(&mis, "OmneeMis", f);
+        check_omnee_mis(&mis, f);
     }
     let x1 = vec3::<F>(f);
     let counts = [F::ONE, F::TWO, F::HALF];
