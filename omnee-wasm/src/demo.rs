@@ -50,10 +50,10 @@ pub enum Method {
     Omnee = 0,
     /// Equiangular sampling along uniformly distributed rays from `x2`.
     Equiangular = 1,
-    /// The core's recommended one-sample MIS, [`OmneeMis::recommended`] (the
-    /// CLI's `mis`): OMNEE over the whole range θ < θmax, and equiangular
-    /// sampling with probability 0.05 behind the cone θ ≥ 3π/4 (balance
-    /// heuristic there, OMNEE alone in front of it).
+    /// The core's recommended MIS, [`OmneeMis::recommended`] (the CLI's
+    /// `mis`): OMNEE's vertex over the whole range θ < θmax, and with
+    /// probability 0.1 an equiangular vertex behind the cone θ ≥ 3π/4
+    /// (balance heuristic there, OMNEE alone in front of it).
     Mis = 2,
 }
 
@@ -195,11 +195,10 @@ impl Problem {
         self.stats = [Running::default(); 3];
     }
 
-    /// Calls `f` with the technique of `method`. One call through
-    /// `&dyn Technique` (not one copy of `f` per technique): the dynamic call
-    /// per sample costs little next to the sample, and each sampling loop is
-    /// in the module once.
-    fn with<R>(&self, method: Method, f: impl FnOnce(&dyn Technique<S>) -> R) -> R {
+    /// Calls `f` with the draws of `method`. One call through `&dyn Draws`
+    /// (not one copy of `f` per method): the dynamic call per draw costs
+    /// little next to the draw, and each sampling loop is in the module once.
+    fn with<R>(&self, method: Method, f: impl FnOnce(&dyn Draws) -> R) -> R {
         let connection = self.problem.connection;
         let omnee = NoInverse(Omnee::new(connection, &self.phase));
         let equiangular = NoInverse(Equiangular::new(
@@ -208,16 +207,14 @@ impl Problem {
             Directions::Sphere,
             Region::Everywhere,
         ));
-        let mis;
-        let technique: &dyn Technique<S> = match method {
-            Method::Omnee => &omnee,
-            Method::Equiangular => &equiangular,
-            Method::Mis => {
-                mis = OmneeMis::recommended(Omnee::new(connection, &self.phase), &equiangular);
-                &mis
-            }
-        };
-        f(technique)
+        match method {
+            Method::Omnee => f(&One(&omnee)),
+            Method::Equiangular => f(&One(&equiangular)),
+            Method::Mis => f(&OmneeMis::recommended(
+                Omnee::new(connection, &self.phase),
+                &equiangular,
+            )),
+        }
     }
 
     /// Draws `n` more samples (1 ..= [`MAX_RUN`]) with each of the three
@@ -236,13 +233,37 @@ impl Problem {
     }
 
     /// `n` samples (1 ..= [`MAX_CLOUD`]) of `method` from generator `seed`,
-    /// rotated into the plane: `[x, y, estimate, …]`, one triple per sample
-    /// that the technique returned (fewer than `n` triples when some fell
-    /// outside θmax). The estimate is `f_c · k/pdf`, whose mean is the integral.
+    /// rotated into the plane: `[x, y, estimate, …]`, one triple per vertex
+    /// the draws returned (fewer than `n` when some fell outside θmax, a few
+    /// more for MIS's companion vertices). The estimate is `f_c · k/pdf`;
+    /// its sum over a draw's vertices has the integral as its mean.
     pub fn cloud(&self, method: Method, n: u32, seed: u32) -> Result<Vec<f32>, Error> {
         check_count("n", n, MAX_CLOUD, "[1, 1048576]")?;
         let rng = Pcg32::new(u64::from(seed), 16 + method as u64);
         Ok(self.with(method, |t| cloud(t, &self.problem, rng, n)))
+    }
+}
+
+/// One draw of a method: its vertices, the technique's one or MIS's pair
+/// (OMNEE's and, now and then, the companion's).
+trait Draws {
+    /// The vertices from the generator's next numbers (three, or six for MIS).
+    fn draw(&self, rng: &mut Pcg32) -> [Option<Sample<S>>; 2];
+}
+
+/// A single technique's draw.
+struct One<'a>(&'a dyn Technique<S>);
+
+impl Draws for One<'_> {
+    fn draw(&self, rng: &mut Pcg32) -> [Option<Sample<S>>; 2] {
+        [self.0.sample(rng.uniform3().map(S::from_f32)), None]
+    }
+}
+
+impl<P: PhaseFunction<S>> Draws for OmneeMis<'_, S, P> {
+    fn draw(&self, rng: &mut Pcg32) -> [Option<Sample<S>>; 2] {
+        let ([a, b, c], [d, e, f]) = (rng.uniform3(), rng.uniform3());
+        self.sample([a, b, c, d, e, f].map(S::from_f32))
     }
 }
 
@@ -270,56 +291,54 @@ impl<T: Technique<S>> Technique<S> for NoInverse<T> {
     }
 }
 
-/// Adds the estimates of `n` samples of `technique` (0 where it returns
-/// none) drawn from `rng` to `stats`; returns both advanced.
+/// Adds the estimates of `n` draws of `method` (the sum of `f_c · k/pdf`
+/// over a draw's vertices, 0 where it has none) from `rng` to `stats`;
+/// returns both advanced.
 fn accumulate(
-    technique: &dyn Technique<S>,
+    method: &dyn Draws,
     problem: &PointToPoint<S>,
     mut rng: Pcg32,
     mut stats: Running,
     n: u32,
 ) -> (Pcg32, Running) {
     for _ in 0..n {
-        let estimate = technique
-            .sample(rng.uniform3().map(S::from_f32))
-            .map_or(0.0, |s| problem.estimate(&s).to_f64());
+        let estimate = method
+            .draw(&mut rng)
+            .iter()
+            .flatten()
+            .map(|s| problem.estimate(s).to_f64())
+            .sum();
         stats.push(estimate);
     }
     (rng, stats)
 }
 
-/// `n` samples of `technique` from `rng`, rotated into the plane about the
-/// axis: `[x, y, estimate, …]`.
-fn cloud(
-    technique: &dyn Technique<S>,
-    problem: &PointToPoint<S>,
-    mut rng: Pcg32,
-    n: u32,
-) -> Vec<f32> {
+/// The vertices of `n` draws of `method` from `rng`, rotated into the plane
+/// about the axis: `[x, y, estimate, …]`.
+fn cloud(method: &dyn Draws, problem: &PointToPoint<S>, mut rng: Pcg32, n: u32) -> Vec<f32> {
     let axis = &problem.connection.axis;
     let e = axis.e;
     // The in-plane normal of the axis (the plane is z = 0).
     let normal = Vec3::new(-e.y(), e.x(), 0.0);
     // Written in place and truncated: a Vec that never grows (its growth
     // path is half a KiB of the module).
-    let mut out = vec![0.0; 3 * n as usize];
+    let mut out = vec![0.0; 6 * n as usize];
     let mut len = 0;
     for _ in 0..n {
-        let Some(s) = technique.sample(rng.uniform3().map(S::from_f32)) else {
-            continue;
-        };
-        let p = s.x1 - axis.x0;
-        let along = p.dot(e);
-        let radial = p - e * along;
-        let h = radial.length().copysign(radial.dot(normal));
-        let q = axis.x0 + e * along + normal * h;
-        if let Some(point) = out.get_mut(len..len + 3) {
-            point.copy_from_slice(&[
-                q.x().to_f32(),
-                q.y().to_f32(),
-                problem.estimate(&s).to_f32(),
-            ]);
-            len += 3;
+        for s in method.draw(&mut rng).iter().flatten() {
+            let p = s.x1 - axis.x0;
+            let along = p.dot(e);
+            let radial = p - e * along;
+            let h = radial.length().copysign(radial.dot(normal));
+            let q = axis.x0 + e * along + normal * h;
+            if let Some(point) = out.get_mut(len..len + 3) {
+                point.copy_from_slice(&[
+                    q.x().to_f32(),
+                    q.y().to_f32(),
+                    problem.estimate(s).to_f32(),
+                ]);
+                len += 3;
+            }
         }
     }
     out.truncate(len);
