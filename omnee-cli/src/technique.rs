@@ -21,7 +21,7 @@ pub enum Tech {
     Equiangular,
     /// Exponential free-flight distance along a direction from the receiver.
     Distance,
-    /// OMNEE over the integrand's whole range, and with probability 0.1 an
+    /// OMNEE over the integrand's whole range, and with probability 0.05 an
     /// equiangular vertex behind the backward cone θ ≥ 3π/4
     /// ([`OmneeMis::recommended`]): MIS that covers backward scattering where
     /// OMNEE's weight grows.

@@ -215,7 +215,7 @@ pub struct OmneeMis<'a, F: Real, P> {
 
 impl<'a, F: Real, P: PhaseFunction<F>> OmneeMis<'a, F, P> {
     /// The companion's rate used by [`Self::recommended`].
-    pub const RATE: f64 = 0.1;
+    pub const RATE: f64 = 0.05;
 
     /// The cone's edge used by [`Self::recommended`], θmin = 3π/4: in front
     /// of it OMNEE's weight θ/(s sin θ) is at most 3π/(4 sin(3π/4)) / s ≈ 3.3/s.

@@ -52,7 +52,7 @@ pub enum Method {
     Equiangular = 1,
     /// The core's recommended MIS, [`OmneeMis::recommended`] (the CLI's
     /// `mis`): OMNEE's vertex over the whole range θ < θmax, and with
-    /// probability 0.1 an equiangular vertex behind the cone θ ≥ 3π/4
+    /// probability 0.05 an equiangular vertex behind the cone θ ≥ 3π/4
     /// (balance heuristic there, OMNEE alone in front of it).
     Mis = 2,
 }

@@ -709,7 +709,7 @@ fn omnee_mis_returns_its_density_and_the_kernel_over_it() {
             behind > 100 && companions > 100,
             "g {g}: {behind} {companions}"
         );
-        // The recommended combination is rate 0.1 behind 3π/4.
+        // The recommended combination is rate 0.05 behind 3π/4.
         type Mis<'a> = OmneeMis<'a, f64, HenyeyGreenstein<f64>>;
         let recommended = OmneeMis::recommended(omnee, &equi);
         let cone = Deflection::from_theta(Mis::THETA_MIN);
