@@ -395,3 +395,161 @@ fn hg_sampler_keeps_its_f32_digits_near_g_one() {
     let (_, p, _) = f32_f64_differences(PhaseSpec::Hg(0.9999), core::f64::consts::FRAC_PI_2, 1.0);
     assert!(p < 1e-5, "f32 pdf differs by {p:e}");
 }
+
+/// Uniform numbers crowding towards both ends of [0, 1), all exact in f32:
+/// `k·2⁻²⁴` and `1 − k·2⁻²⁴` for k = 1, 2, 4, …, 2²³, and a uniform grid
+/// between. Near u = 1 an inverse-CDF sampler reaches θ → π (and 1 + cos θ
+/// carries the digits); near u = 0 it reaches θ → 0.
+fn ends_of_the_unit_interval() -> Vec<f32> {
+    let ulp = 2f32.powi(-24);
+    let mut us: Vec<f32> = (0..24)
+        .flat_map(|i| {
+            let k = 2f32.powi(i) * ulp;
+            [k, 1.0 - k]
+        })
+        .collect();
+    us.extend((1..64).map(|i| i as f32 / 64.0));
+    us
+}
+
+/// The largest relative f32-vs-f64 difference of the two versines a phase
+/// function's sampler returns for the same u (f32-rounded parameters in both).
+fn versine_differences(spec: PhaseSpec) -> (f64, f64) {
+    let (p32, p64) = (spec.build::<f32>(), spec.rounded_to_f32().build::<f64>());
+    let mut worst = (0.0f64, 0.0f64);
+    for u in ends_of_the_unit_interval() {
+        let (a, b) = (p32.sample(u), p64.sample(f64::from(u)));
+        let rel = |x: f32, y: f64| {
+            if y == 0.0 {
+                f64::from(x).abs()
+            } else {
+                (f64::from(x) - y).abs() / y
+            }
+        };
+        worst.0 = worst.0.max(rel(a.one_minus_cos, b.one_minus_cos));
+        worst.1 = worst.1.max(rel(a.one_plus_cos, b.one_plus_cos));
+    }
+    worst
+}
+
+#[test]
+fn f32_samplers_keep_both_versines_to_relative_precision() {
+    // A Deflection promises 1 − cos θ and 1 + cos θ each without
+    // cancellation (README, MATH.md §4), so the f32 sampler must match the
+    // f64 one in *relative* terms at both ends of u: near u → 1 a sampler
+    // that forms 1 + cos θ, or any term of it, by subtracting numbers near
+    // 1 (e.g. k = 1 + g − 2gu for g → 1) loses log10(1/(1 − g)) digits.
+    // Bound: the closed forms are a dozen roundings of non-negative terms
+    // (≤ 12 ε relative) and an f32 division of u (ε); with ε = 2⁻²⁴ that is
+    // 8e-7: allow 2e-6. Rayleigh's cubic is polished by Newton steps whose
+    // residual is formed in f32 (a few ε more); Draine and Fournier–Forand
+    // invert in f64 and round once.
+    let specs = [
+        PhaseSpec::Isotropic,
+        PhaseSpec::Rayleigh,
+        PhaseSpec::Hg(0.0),
+        PhaseSpec::Hg(0.5),
+        PhaseSpec::Hg(-0.5),
+        PhaseSpec::Hg(0.99),
+        PhaseSpec::Hg(-0.99),
+        PhaseSpec::Hg(0.9999),
+        PhaseSpec::Hg(-0.9999),
+        PhaseSpec::Draine(0.5, 250.0),
+        PhaseSpec::Draine(-0.9, 3.0),
+    ];
+    for spec in specs {
+        let (minus, plus) = versine_differences(spec);
+        println!("f32 vs f64 sampler {spec:?}: 1 − cos θ {minus:.1e}, 1 + cos θ {plus:.1e}");
+        assert!(
+            minus < 2e-6 && plus < 2e-6,
+            "{spec:?}: f32 versines off by {minus:e} (1 − cos θ), {plus:e} (1 + cos θ)"
+        );
+    }
+}
+
+#[test]
+fn f32_batch_agrees_with_f64() {
+    // The vectorised f32 entry point (Omnee::sample_batch, Henyey–Greenstein:
+    // polynomial sin/cos and atan, a Newton square root) against the f64
+    // scalar sampler for the same u, geometry and g (all f32-rounded), run
+    // as one batch per configuration. Tolerances as for the scalar f32 path
+    // in `f32_agrees_with_f64` (weight 5e-6, pdf 1e-5, x1 1e-6 of the
+    // triangle's size): the polynomials add at most 3 ulps to the functions
+    // they replace. u0 runs to both ends of [0, 1) (θ → 0 and the back of
+    // the lobe), u1 stays 0.02 away from the end points (see there).
+    // Measured maxima: weight 3.8e-7, pdf 1.4e-6, x1 2.7e-7.
+    let mut u0s = ends_of_the_unit_interval();
+    u0s.extend((0..24).map(|i| (i as f32 + 0.5) / 24.0));
+    let mut us = Vec::new();
+    for &a in &u0s {
+        for j in 0..24 {
+            for k in 0..4 {
+                us.push([
+                    a,
+                    0.02 + 0.96 * (j as f32 + 0.5) / 24.0,
+                    (k as f32 + 0.5) / 4.0,
+                ]);
+            }
+        }
+    }
+    let soa = |k: usize| us.iter().map(|u| u[k]).collect::<Vec<f32>>();
+    let (u0, u1, u2) = (soa(0), soa(1), soa(2));
+    let m = us.len();
+    for g in [0.0, 0.9, 0.99, 0.9999, -0.7, -0.9999] {
+        for theta_max in [core::f64::consts::FRAC_PI_2, 3.0] {
+            for scale in [1e-3, 1.0, 1e3] {
+                let x0 = glam::DVec3::new(0.3, -0.1, 0.2) * scale;
+                let x2 = x0 + glam::DVec3::new(0.36, 0.48, 0.8) * scale;
+                let t = crate::harness::BatchOmnee::new(x0, x2, theta_max, g);
+                let (mut x, mut y, mut z) = (vec![0.0f32; m], vec![0.0f32; m], vec![0.0f32; m]);
+                let (mut pdf, mut weight) = (vec![0.0f32; m], vec![0.0f32; m]);
+                t.f32
+                    .sample_batch(
+                        omnee::sampling::Uniforms {
+                            u0: &u0,
+                            u1: &u1,
+                            u2: &u2,
+                        },
+                        omnee::sampling::Vertices {
+                            x: &mut x,
+                            y: &mut y,
+                            z: &mut z,
+                            pdf: &mut pdf,
+                            weight: &mut weight,
+                        },
+                    )
+                    .unwrap();
+                let (mut dw, mut dp, mut dx) = (0.0f64, 0.0f64, 0.0f64);
+                let c64 = &t.f64.connection;
+                for (i, u) in us.iter().enumerate() {
+                    let b = t.f64.sample(u.map(f64::from));
+                    let lane = (pdf[i] > 0.0).then_some(i);
+                    let (Some(b), Some(i)) = (b, lane) else {
+                        // Only where θ itself is within the f32 rounding of θmax.
+                        let theta = t.f64.phase.sample(f64::from(u[0])).theta;
+                        assert!(
+                            b.is_none() == lane.is_none()
+                                || (theta / c64.theta_max - 1.0).abs() < 1e-5,
+                            "g {g} θmax {theta_max} s {scale}: batch and f64 disagree on {u:?}"
+                        );
+                        continue;
+                    };
+                    let rel = |x: f32, y: f64| (f64::from(x) - y).abs() / y.abs();
+                    dw = dw.max(rel(weight[i], b.weight));
+                    dp = dp.max(rel(pdf[i], b.pdf));
+                    let x1 = glam::DVec3::new(x[i].into(), y[i].into(), z[i].into());
+                    let size =
+                        scale + (b.x1 - c64.axis.x0).length() + (b.x1 - c64.axis.x2).length();
+                    dx = dx.max((x1 - b.x1).length() / size);
+                }
+                println!(
+                    "f32 batch vs f64 HG {g} θmax {theta_max} s {scale}: weight {dw:.1e}, pdf {dp:.1e}, x1/s {dx:.1e}"
+                );
+                assert!(
+                    dw < 5e-6 && dp < 1e-5 && dx < 1e-6,
+                    "HG {g} θmax {theta_max} s {scale}: weight {dw:e}, pdf {dp:e}, x1 {dx:e}"
+                );
+            }
+        }
+    }
+}
