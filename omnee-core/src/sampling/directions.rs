@@ -40,11 +40,16 @@ impl<F: Real> Directions<F> {
         })
     }
 
-    /// A direction from `u ∈ [0, 1)²`.
+    /// A direction from `u ∈ [0, 1)²` (each coordinate clamped to [0, 1],
+    /// NaN to 0, so that any input gives a unit vector).
     /// Sphere: `z = 1 − 2u0`, `r = 2√(u0(1 − u0))`, `φ = 2π u1`.
     /// Cosine (Malley): `r = √u0`, `φ = 2π u1`, `cos θ = √(1 − u0)` about n.
     #[inline]
     pub fn sample(&self, u: [F; 2]) -> F::Vec3 {
+        let u = [
+            u[0].clamp_to(F::ZERO, F::ONE),
+            u[1].clamp_to(F::ZERO, F::ONE),
+        ];
         let (sin_phi, cos_phi) = (F::TAU * u[1]).sin_cos();
         match *self {
             Directions::Sphere => {

@@ -79,7 +79,8 @@ impl<F: Real, P: PhaseFunction<F>> Distance<F, P> {
 }
 
 impl<F: Real, P: PhaseFunction<F>> Technique<F> for Distance<F, P> {
-    /// ω from `(u0, u1)`, `t = t_a − ln_1p(−u2 (1 − e^{−σL})) / σ`.
+    /// ω from `(u0, u1)`, `t = t_a − ln_1p(−u2 (1 − e^{−σL})) / σ`; each `u`
+    /// clamped to [0, 1] (NaN to 0).
     fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
         let axis = &self.connection.axis;
         let omega = self.directions.sample([u[0], u[1]]);
@@ -90,10 +91,11 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Distance<F, P> {
         if !(mass.is_finite() && pdf_omega > F::ZERO) {
             return None; // σ = 0 on an unbounded segment
         }
+        let u2 = u[2].clamp_to(F::ZERO, F::ONE);
         let x = if self.sigma > F::ZERO {
-            -(-u[2] * mass).ln_1p() / self.sigma
+            -(-u2 * mass).ln_1p() / self.sigma
         } else {
-            u[2] * length
+            u2 * length
         };
         let t = (ta + x).min(tb);
         if !(t > F::ZERO && t.is_finite()) {

@@ -177,12 +177,13 @@ impl<F: Real, P: PhaseFunction<F>> Equiangular<F, P> {
 impl<F: Real, P: PhaseFunction<F>> Technique<F> for Equiangular<F, P> {
     /// ω from `(u0, u1)`, then `t` and `v = t − Δ` from `u2` on the medium
     /// segment (tangent addition from the nearer end); `d1 = |v ω − (x0 − foot)|`, `d2 = t`.
+    /// Each `u` is clamped to [0, 1] (NaN to 0).
     fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
         let axis = &self.connection.axis;
         let omega = self.directions.sample([u[0], u[1]]);
         let pdf_omega = self.directions.pdf(omega);
         let line = self.line(omega)?;
-        let (t, v) = line.distance(u[2]);
+        let (t, v) = line.distance(u[2].clamp_to(F::ZERO, F::ONE));
         if !(t > F::ZERO && t.is_finite() && pdf_omega > F::ZERO) {
             return None;
         }

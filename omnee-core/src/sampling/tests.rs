@@ -399,7 +399,29 @@ fn degenerate_input_gives_errors_or_no_sample_never_nan() {
     );
     assert!(Directions::<f64>::cosine(DVec3::ZERO).is_err());
 
-    let extremes = [0.0, 1e-300, 0.5, f64::ONE_MINUS_EPSILON, 1.0];
+    // u outside [0, 1) is clamped (NaN to 0). The huge pair is what the
+    // fuzzer found: it made the sphere direction (1 + 6e231)·z, and
+    // equiangular's x1 infinite.
+    let extremes = [
+        0.0,
+        1e-300,
+        0.5,
+        f64::ONE_MINUS_EPSILON,
+        1.0,
+        -3.1e231,
+        1.6e185,
+        f64::NAN,
+        f64::NEG_INFINITY,
+    ];
+    let cosine = Directions::cosine(DVec3::new(1.0, -2.0, 0.5)).unwrap();
+    for directions in [Directions::Sphere, cosine] {
+        for &a in &extremes {
+            for &b in &extremes {
+                let omega = directions.sample([a, b]);
+                assert!((omega.length() - 1.0).abs() < 1e-15, "{a} {b}: {omega}");
+            }
+        }
+    }
     with_techniques(HenyeyGreenstein::new(0.99).unwrap(), |name, t| {
         for &a in &extremes {
             for &b in &extremes {
