@@ -23,7 +23,8 @@ Techniques for the once-more term (--technique):
   omnee        the deflection from the phase function, then x1 on the circumcircle arc
   equiangular  a direction from the receiver, then the distance equiangular towards the light
   distance     a direction from the receiver, then an exponential free-flight distance
-  mis          OMNEE over the whole range, with equiangular sampling behind theta = 3 pi/4 (one-sample MIS)
+  mis          OMNEE over the whole range, and for 5 % of the connections one more, equiangular,
+               vertex kept behind theta = 3 pi/4 (multi-sample MIS, balance heuristic there)
   auto         OMNEE, or mis in a thin medium with a broad phase function; says what it picked and why
 
 Exit codes: 0 success, 1 a file could not be written, 2 bad input (the message names
