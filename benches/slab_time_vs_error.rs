@@ -33,7 +33,7 @@
 
 mod common;
 
-use common::{arg, docs_path, flag, fmt3, median};
+use common::{arg, docs_path, flag, fmt3, loglog, median};
 use plotters::prelude::*;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -272,69 +272,27 @@ struct Row {
 }
 
 fn plot(rows: &[Row], path: &Path) -> Result<(), Box<dyn std::error::Error>> {
-    let cols = 2usize;
-    let nrows = rows.len().div_ceil(cols);
-    let (w, h) = (420u32, 260u32);
-    let root = SVGBackend::new(path, (w * cols as u32, h * nrows as u32 + 40)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (legend, grid) = root.split_vertically(40);
-    for (i, name) in TECHS.iter().enumerate() {
-        let x = 20 + 200 * i as i32;
-        legend.draw(&PathElement::new(
-            vec![(x, 20), (x + 30, 20)],
-            COLORS[i].stroke_width(3),
-        ))?;
-        legend.draw(&Text::new(
-            name.to_string(),
-            (x + 38, 12),
-            ("sans-serif", 16),
-        ))?;
-    }
-    for (row, panel) in rows.iter().zip(grid.split_evenly((nrows, cols)).iter()) {
-        let all: Vec<(f64, f64)> = row
-            .curves
-            .iter()
-            .flatten()
-            .map(|p| (p.1.max(0.01), p.3))
-            .filter(|p| p.1 > 0.0)
-            .collect();
-        let (t0, t1) = all
-            .iter()
-            .fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.0), a.1.max(p.0)));
-        let (r0, r1) = all
-            .iter()
-            .fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.1), a.1.max(p.1)));
-        let mut chart = ChartBuilder::on(panel)
-            .caption(&row.name, ("sans-serif", 14))
-            .margin(6)
-            .x_label_area_size(28)
-            .y_label_area_size(48)
-            .build_cartesian_2d(
-                (t0 * 0.8..t1 * 1.25).log_scale(),
-                (r0 * 0.5..r1 * 2.0).log_scale(),
-            )?;
-        chart
-            .configure_mesh()
-            .x_desc("CPU seconds (one core)")
-            .y_desc("relMSE")
-            .x_labels(4)
-            .y_labels(5)
-            .x_label_formatter(&|x| format!("{x:.0e}"))
-            .y_label_formatter(&|y| format!("{y:.0e}"))
-            .label_style(("sans-serif", 10))
-            .draw()?;
-        for (i, c) in row.curves.iter().enumerate() {
-            let pts: Vec<(f64, f64)> = c
+    // Times below the 10 ms tick of the CPU clock are drawn at 10 ms.
+    let panels: Vec<loglog::Panel> = rows
+        .iter()
+        .map(|row| loglog::Panel {
+            caption: row.name.clone(),
+            curves: row
+                .curves
                 .iter()
-                .map(|p| (p.1.max(0.01), p.3))
-                .filter(|p| p.1 > 0.0)
-                .collect();
-            chart.draw_series(LineSeries::new(pts.clone(), COLORS[i].stroke_width(2)))?;
-            chart.draw_series(pts.iter().map(|&p| Circle::new(p, 2, COLORS[i].filled())))?;
-        }
-    }
-    root.present()?;
-    Ok(())
+                .map(|c| c.iter().map(|p| (p.1.max(0.01), p.3)).collect())
+                .collect(),
+        })
+        .collect();
+    let layout = loglog::Layout {
+        names: &TECHS,
+        colors: &COLORS,
+        cols: 2,
+        panel: (420, 260),
+        legend_step: 200,
+        x_desc: "CPU seconds (one core)",
+    };
+    loglog::svg(path, &layout, &panels)
 }
 
 /// sRGB encoding of a linear value in [0, 1].

@@ -38,7 +38,7 @@
 
 mod common;
 
-use common::{SplitMix, arg, docs_path, fmt3, median, seed};
+use common::{SplitMix, arg, docs_path, fmt3, loglog, median, seed};
 use cpu_time::ThreadTime;
 use glam::{DVec3, Vec3};
 use omnee::medium::{Homogeneous, Region};
@@ -328,69 +328,26 @@ fn math_table(out: &mut String) {
 }
 
 fn plot(rows: &[Row], path: &std::path::Path) -> Result<(), Box<dyn std::error::Error>> {
-    let (w, h) = (330u32, 250u32);
-    let root = SVGBackend::new(path, (w * TAUS.len() as u32, h * PHASES.len() as u32 + 40))
-        .into_drawing_area();
-    root.fill(&WHITE)?;
-    let (legend, grid) = root.split_vertically(40);
-    for (i, name) in TECHS.iter().enumerate() {
-        let x = 20 + 190 * i as i32;
-        legend.draw(&PathElement::new(
-            vec![(x, 20), (x + 30, 20)],
-            COLORS[i].stroke_width(3),
-        ))?;
-        legend.draw(&Text::new(
-            name.to_string(),
-            (x + 38, 12),
-            ("sans-serif", 16),
-        ))?;
-    }
-    let panels = grid.split_evenly((PHASES.len(), TAUS.len()));
-    for (row, panel) in rows.iter().zip(panels.iter()) {
-        let all: Vec<(f64, f64)> = row
-            .curves
-            .iter()
-            .flat_map(|c| c.points.iter().map(|p| (p.1, p.2)))
-            .filter(|p| p.0 > 0.0 && p.1 > 0.0)
-            .collect();
-        let (t0, t1) = all
-            .iter()
-            .fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.0), a.1.max(p.0)));
-        let (r0, r1) = all
-            .iter()
-            .fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.1), a.1.max(p.1)));
-        let mut chart = ChartBuilder::on(panel)
-            .caption(format!("{}, τ = {}", row.spec, row.tau), ("sans-serif", 14))
-            .margin(6)
-            .x_label_area_size(28)
-            .y_label_area_size(48)
-            .build_cartesian_2d(
-                (t0 * 0.8..t1 * 1.25).log_scale(),
-                (r0 * 0.5..r1 * 2.0).log_scale(),
-            )?;
-        chart
-            .configure_mesh()
-            .x_desc("CPU seconds")
-            .y_desc("relMSE")
-            .x_labels(4)
-            .y_labels(5)
-            .x_label_formatter(&|x| format!("{x:.0e}"))
-            .y_label_formatter(&|y| format!("{y:.0e}"))
-            .label_style(("sans-serif", 10))
-            .draw()?;
-        for (i, c) in row.curves.iter().enumerate() {
-            let pts: Vec<(f64, f64)> = c
-                .points
+    let panels: Vec<loglog::Panel> = rows
+        .iter()
+        .map(|row| loglog::Panel {
+            caption: format!("{}, τ = {}", row.spec, row.tau),
+            curves: row
+                .curves
                 .iter()
-                .map(|p| (p.1, p.2))
-                .filter(|p| p.0 > 0.0 && p.1 > 0.0)
-                .collect();
-            chart.draw_series(LineSeries::new(pts.clone(), COLORS[i].stroke_width(2)))?;
-            chart.draw_series(pts.iter().map(|&p| Circle::new(p, 2, COLORS[i].filled())))?;
-        }
-    }
-    root.present()?;
-    Ok(())
+                .map(|c| c.points.iter().map(|p| (p.1, p.2)).collect())
+                .collect(),
+        })
+        .collect();
+    let layout = loglog::Layout {
+        names: &TECHS,
+        colors: &COLORS,
+        cols: TAUS.len(),
+        panel: (330, 250),
+        legend_step: 190,
+        x_desc: "CPU seconds",
+    };
+    loglog::svg(path, &layout, &panels)
 }
 
 fn main() {

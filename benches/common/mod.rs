@@ -1,6 +1,9 @@
 //! Helpers shared by the harness-less benchmark binaries (`time_vs_error`,
-//! `stress`): a small seeded generator, argument parsing and output paths.
+//! `slab_time_vs_error`, `stress`): a small seeded generator, argument
+//! parsing, output paths, and the log-log figures ([`loglog`]).
 #![allow(dead_code)] // each bench binary uses a different subset
+
+pub mod loglog;
 
 use std::path::PathBuf;
 
