@@ -576,6 +576,17 @@ fn chi2_rejects_impossible_cells_and_accepts_exact_counts() {
     assert!(r.p_value < 1e-6, "{r:?}");
 }
 
+/// The output of [`BatchOmnee::batch`]: per lane `x1 = (x, y, z)`, pdf and
+/// weight (zeros where no sample), and the number of samples returned.
+pub struct Lanes {
+    pub x: Vec<f32>,
+    pub y: Vec<f32>,
+    pub z: Vec<f32>,
+    pub pdf: Vec<f32>,
+    pub weight: Vec<f32>,
+    pub count: usize,
+}
+
 /// The batch entry point `Omnee::sample_batch` (f32, Henyey–Greenstein) seen
 /// as a scalar [`Technique<f64>`]: each `sample` runs a batch of one lane
 /// (with `u` rounded to f32), `pdf` is the f64 OMNEE density of the same
@@ -605,39 +616,53 @@ impl BatchOmnee {
         }
     }
 
-    /// One lane of the batch: `(x1, pdf, weight)`, or `None` where the batch
-    /// reports no sample (pdf = weight = 0).
-    pub fn lane(&self, u: [f32; 3]) -> Option<(glam::Vec3, f32, f32)> {
+    /// One `sample_batch` call in f32 over the uniforms `u0`, `u1`, `u2`
+    /// (equal lengths), its output in owned structure-of-arrays form.
+    pub fn batch(&self, u0: &[f32], u1: &[f32], u2: &[f32]) -> Lanes {
         use omnee::sampling::{Uniforms, Vertices};
-        let (mut x, mut y, mut z, mut pdf, mut weight) =
-            ([0.0f32], [0.0f32], [0.0f32], [0.0f32], [0.0f32]);
-        let count = self
+        let m = u0.len();
+        let mut out = Lanes {
+            x: vec![0.0; m],
+            y: vec![0.0; m],
+            z: vec![0.0; m],
+            pdf: vec![0.0; m],
+            weight: vec![0.0; m],
+            count: 0,
+        };
+        out.count = self
             .f32
             .sample_batch(
-                Uniforms {
-                    u0: &[u[0]],
-                    u1: &[u[1]],
-                    u2: &[u[2]],
-                },
+                Uniforms { u0, u1, u2 },
                 Vertices {
-                    x: &mut x,
-                    y: &mut y,
-                    z: &mut z,
-                    pdf: &mut pdf,
-                    weight: &mut weight,
+                    x: &mut out.x,
+                    y: &mut out.y,
+                    z: &mut out.z,
+                    pdf: &mut out.pdf,
+                    weight: &mut out.weight,
                 },
             )
             .unwrap();
-        if count == 0 {
+        out
+    }
+
+    /// One lane of the batch: `(x1, pdf, weight)`, or `None` where the batch
+    /// reports no sample (pdf = weight = 0).
+    pub fn lane(&self, u: [f32; 3]) -> Option<(glam::Vec3, f32, f32)> {
+        let l = self.batch(&[u[0]], &[u[1]], &[u[2]]);
+        if l.count == 0 {
             assert!(
-                pdf[0] == 0.0 && weight[0] == 0.0,
+                l.pdf[0] == 0.0 && l.weight[0] == 0.0,
                 "no sample but pdf {} weight {}",
-                pdf[0],
-                weight[0]
+                l.pdf[0],
+                l.weight[0]
             );
             return None;
         }
-        Some((glam::Vec3::new(x[0], y[0], z[0]), pdf[0], weight[0]))
+        Some((
+            glam::Vec3::new(l.x[0], l.y[0], l.z[0]),
+            l.pdf[0],
+            l.weight[0],
+        ))
     }
 }
 

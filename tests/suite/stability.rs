@@ -494,31 +494,20 @@ fn f32_batch_agrees_with_f64() {
     }
     let soa = |k: usize| us.iter().map(|u| u[k]).collect::<Vec<f32>>();
     let (u0, u1, u2) = (soa(0), soa(1), soa(2));
-    let m = us.len();
     for g in [0.0, 0.9, 0.99, 0.9999, -0.7, -0.9999] {
         for theta_max in [core::f64::consts::FRAC_PI_2, 3.0] {
             for scale in [1e-3, 1.0, 1e3] {
                 let x0 = glam::DVec3::new(0.3, -0.1, 0.2) * scale;
                 let x2 = x0 + glam::DVec3::new(0.36, 0.48, 0.8) * scale;
                 let t = crate::harness::BatchOmnee::new(x0, x2, theta_max, g);
-                let (mut x, mut y, mut z) = (vec![0.0f32; m], vec![0.0f32; m], vec![0.0f32; m]);
-                let (mut pdf, mut weight) = (vec![0.0f32; m], vec![0.0f32; m]);
-                t.f32
-                    .sample_batch(
-                        omnee::sampling::Uniforms {
-                            u0: &u0,
-                            u1: &u1,
-                            u2: &u2,
-                        },
-                        omnee::sampling::Vertices {
-                            x: &mut x,
-                            y: &mut y,
-                            z: &mut z,
-                            pdf: &mut pdf,
-                            weight: &mut weight,
-                        },
-                    )
-                    .unwrap();
+                let super::harness::Lanes {
+                    x,
+                    y,
+                    z,
+                    pdf,
+                    weight,
+                    ..
+                } = t.batch(&u0, &u1, &u2);
                 let (mut dw, mut dp, mut dx) = (0.0f64, 0.0f64, 0.0f64);
                 let c64 = &t.f64.connection;
                 for (i, u) in us.iter().enumerate() {
