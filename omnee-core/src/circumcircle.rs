@@ -109,7 +109,21 @@ impl<F: Real> Axis<F> {
     #[inline]
     pub fn place(&self, triangle: &Triangle<F>, phi: F) -> Option<F::Vec3> {
         let (sin_phi, cos_phi) = phi.sin_cos();
-        let radial = self.b1 * cos_phi + self.b2 * sin_phi;
+        self.place_radial(triangle, self.b1 * cos_phi + self.b2 * sin_phi)
+    }
+
+    /// [`place`](Self::place) with the azimuth in turns, `φ = 2π turn`
+    /// (`turn ∈ [0, 1]`, the sampler's uniform number), through
+    /// [`Real::sin_cos_turn`]: the samplers' form, without rounding φ first.
+    #[inline(always)]
+    pub fn place_turn(&self, triangle: &Triangle<F>, turn: F) -> Option<F::Vec3> {
+        let (sin_phi, cos_phi) = turn.sin_cos_turn();
+        self.place_radial(triangle, self.b1 * cos_phi + self.b2 * sin_phi)
+    }
+
+    /// `x0 + d1 cos α · e + d1 sin α · radial` for a unit `radial ⊥ e`.
+    #[inline(always)]
+    fn place_radial(&self, triangle: &Triangle<F>, radial: F::Vec3) -> Option<F::Vec3> {
         let x1 = self.x0
             + self.e * (triangle.d1 * triangle.cos_alpha)
             + radial * (triangle.d1 * triangle.sin_alpha);
@@ -200,7 +214,7 @@ impl<F: Real> Triangle<F> {
     ///
     /// `None` for θ ≥ π (the triangle does not close), `β/θ ∉ [0, 1]` or
     /// non-finite input.
-    #[inline]
+    #[inline(always)]
     pub fn solve(s: F, deflection: Deflection<F>, beta_ratio: F) -> Option<Self> {
         let theta = deflection.theta;
         if !(theta >= F::ZERO
@@ -212,8 +226,11 @@ impl<F: Real> Triangle<F> {
         }
         let (beta, alpha) = (beta_ratio * theta, (F::ONE - beta_ratio) * theta);
         let (sin_theta, cos_theta) = (deflection.sin(), deflection.cos());
-        let beta_is_smaller = beta <= alpha;
-        let (sin_small, cos_small) = if beta_is_smaller { beta } else { alpha }.sin_cos();
+        // min(β, α) = θ min(β/θ, 1 − β/θ) exactly (rounding is monotone), with
+        // the comparison off the path from θ.
+        let beta_is_smaller = beta_ratio <= F::ONE - beta_ratio;
+        let small = theta * beta_ratio.min(F::ONE - beta_ratio);
+        let (sin_small, cos_small) = small.sin_cos_acute();
         let sin_large = sin_theta * cos_small - cos_theta * sin_small;
         let cos_large = cos_theta * cos_small + sin_theta * sin_small;
         let (sin_alpha, cos_alpha, sin_beta) = if beta_is_smaller {

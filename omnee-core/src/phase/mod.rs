@@ -58,7 +58,7 @@ impl<F: Real> Deflection<F> {
     #[inline]
     pub fn from_theta(theta: F) -> Self {
         let theta = theta.clamp_to(F::ZERO, F::PI);
-        let (s, c) = (theta * F::HALF).sin_cos();
+        let (s, c) = (theta * F::HALF).sin_cos_acute();
         Self {
             theta,
             one_minus_cos: F::TWO * s * s,
@@ -73,7 +73,7 @@ impl<F: Real> Deflection<F> {
         let omc = one_minus_cos.clamp_to(F::ZERO, F::TWO);
         let opc = one_plus_cos.clamp_to(F::ZERO, F::TWO);
         Self {
-            theta: F::TWO * omc.sqrt().atan2(opc.sqrt()),
+            theta: F::TWO * omc.atan2_sqrt(opc),
             one_minus_cos: omc,
             one_plus_cos: opc,
         }
@@ -121,7 +121,7 @@ impl<F: Real> Deflection<F> {
         let plus = sum.length_squared();
         let k = F::TWO / (minus + plus);
         Self {
-            theta: F::TWO * minus.sqrt().atan2(plus.sqrt()),
+            theta: F::TWO * minus.atan2_sqrt(plus),
             one_minus_cos: minus * k,
             one_plus_cos: plus * k,
         }

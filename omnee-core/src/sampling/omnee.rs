@@ -57,7 +57,7 @@ impl<F: Real, P: PhaseFunction<F>> Omnee<F, P> {
             return None; // x1 on an end point, where the integrand is singular
         }
         let sample = Sample {
-            x1: axis.place(&triangle, F::TAU * u[2])?,
+            x1: axis.place_turn(&triangle, u[2])?,
             pdf: self.density(phase_pdf, triangle.sinc_theta, triangle.d1, triangle.d2),
             weight: saturate(F::ONE / (axis.s * triangle.sinc_theta)),
         };
