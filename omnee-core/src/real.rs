@@ -324,9 +324,9 @@ macro_rules! impl_real {
         impl_real!(@libm $m);
     };
     (@bounded f32) => {
-        #[inline] fn sin_cos_acute(self) -> (Self, Self) { sin_cos_acute_f32(self) }
-        #[inline] fn sin_cos_turn(self) -> (Self, Self) { sin_cos_turn_f32(self) }
-        #[inline] fn atan2_sqrt(self, b: Self) -> Self { atan2_sqrt_f32(self, b) }
+        #[inline(always)] fn sin_cos_acute(self) -> (Self, Self) { sin_cos_acute_f32(self) }
+        #[inline(always)] fn sin_cos_turn(self) -> (Self, Self) { sin_cos_turn_f32(self) }
+        #[inline(always)] fn atan2_sqrt(self, b: Self) -> Self { atan2_sqrt_f32(self, b) }
     };
     (@bounded f64) => {};
     (@std $f:ident) => {
@@ -390,7 +390,7 @@ impl_real!(f32, glam::Vec3, f32, f32, 3.452_669_8e-4);
 impl_real!(f64, glam::DVec3, f64, f64, 1.490_116_119_384_765_6e-8);
 
 // The f32 kernels below evaluate in f64 with polynomials fitted for f32
-// results (errors 1e-10 to 1e-11, far below the final rounding), so each
+// results (errors 2e-11 and 5e-10, far below the final rounding), so each
 // result is the exact value rounded about once: within 0.51 ulp (tested).
 // Compared with libm's general `sincosf` and `atan2f` they skip the range
 // reduction and the branches on the argument's range, which a sampled angle
@@ -400,7 +400,8 @@ impl_real!(f64, glam::DVec3, f64, f64, 1.490_116_119_384_765_6e-8);
 // f64, the precision of references.
 
 /// `sin x / x = S(x²)` on `|x| ≤ π/2`: degree 5 in `z = x²`, least-squares
-/// in the Chebyshev basis on `[0, π²/4]`, maximum error 1.7e-11.
+/// in the Chebyshev basis on `[0, π²/4]`, maximum error 1.7e-11 (degree 4
+/// would give 6.7e-9, 0.1 f32 ulp, and results up to 0.61 ulp off).
 const SIN_ACUTE: [f64; 6] = [
     0.999_999_999_982_919_1,
     -0.166_666_666_168_155_67,
@@ -426,7 +427,7 @@ const ATAN_SQRT: [f64; 11] = [
     0.001_057_607_438_057_242,
 ];
 
-/// `c0 + c1 z + … + c5 z⁵` by Estrin's scheme.
+/// `c0 + c1 z + … + c5 z⁵` by Estrin's scheme (pairs, then powers of z).
 #[inline(always)]
 fn estrin5(c: &[f64; 6], z: f64) -> f64 {
     let z2 = z * z;
@@ -451,7 +452,7 @@ fn sin_cos_acute_f64(x: f64) -> (f64, f64) {
 
 /// `(sin x, cos x)` in f32 for `|x| ≤ π/2`: [`sin_cos_acute_f64`] (the
 /// polynomial [`SIN_ACUTE`] at `x` and at `π/2 − |x|`), rounded once.
-#[inline]
+#[inline(always)]
 pub fn sin_cos_acute_f32(x: f32) -> (f32, f32) {
     let (s, c) = sin_cos_acute_f64(x as f64);
     (s as f32, c as f32)
@@ -461,7 +462,7 @@ pub fn sin_cos_acute_f32(x: f32) -> (f32, f32) {
 /// `j/2` (`j ∈ {−2, …, 2}`), the exact remainder `r = t − j/2 ∈ [−1/4, 1/4]`,
 /// and `(sin 2πt, cos 2πt) = (−1)ʲ (sin 2πr, cos 2πr)` with
 /// [`sin_cos_acute_f64`] at `2πr ∈ [−π/2, π/2]`. Branch-free.
-#[inline]
+#[inline(always)]
 pub fn sin_cos_turn_f32(t: f32) -> (f32, f32) {
     const TO_INT: f64 = 1.5 / f64::EPSILON; // adding it rounds to an integer
     let t = t as f64;
@@ -478,17 +479,24 @@ pub fn sin_cos_turn_f32(t: f32) -> (f32, f32) {
 /// with the polynomial), and `π/2 − atan(√w)` if `a > b`
 /// (`atan2(√a, √b) = π/2 − atan2(√b, √a)`). `(0, 0)` gives 0; NaN or a
 /// negative argument gives NaN.
-#[inline]
+#[inline(always)]
 pub fn atan2_sqrt_f32(a: f32, b: f32) -> f32 {
     if !(a >= 0.0 && b >= 0.0) {
         return f32::NAN;
     }
     let (a, b) = (a as f64, b as f64);
-    let (lo, hi) = (a.min(b), a.max(b));
-    let w = lo / hi.max(f64::MIN_POSITIVE);
-    // The branch-free form of `if a > b { π/2 − t } else { t }`.
-    let flip = f64::from(u8::from(a > b));
-    let (base, sign) = (flip * core::f64::consts::FRAC_PI_2, 1.0 - 2.0 * flip);
+    // Neither is NaN here, so plain comparisons are `minsd`/`maxsd`.
+    let (lo, hi) = (if a < b { a } else { b }, if a < b { b } else { a });
+    let w = lo
+        / if hi > f64::MIN_POSITIVE {
+            hi
+        } else {
+            f64::MIN_POSITIVE
+        };
+    // `if a > b { π/2 − t } else { t }` as `base + sign t` with the sign of
+    // b − a (+1 for a = b) and `base = (1 − sign) π/4`: no branch.
+    let sign = 1.0f64.copysign(b - a);
+    let base = (1.0 - sign) * core::f64::consts::FRAC_PI_4;
     let w2 = w * w;
     let w4 = w2 * w2;
     let w8 = w4 * w4;

@@ -68,7 +68,7 @@ impl<F: Real> PhaseFunction<F> for HenyeyGreenstein<F> {
     /// `θ = 2 atan2(√a, √b)` ([`Real::atan2_sqrt`]), so θ does not wait for
     /// the division. The density is `p = (1 − g²) / (4π q³)` with
     /// `q = (1 − g²)/k`, i.e. `k³ / (4π (1 − g²)²)`.
-    #[inline]
+    #[inline(always)]
     fn sample_pdf(&self, u: F) -> (Deflection<F>, F) {
         let g = self.g;
         // Outside the contract u ∈ [0, 1) (and for NaN) the nearest end.
