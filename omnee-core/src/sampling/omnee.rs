@@ -19,6 +19,11 @@ use crate::real::{Real, sinc_with_sin};
 /// so every geometric factor cancels and the weight is bounded by
 /// `π/(2s)` for θmax = π/2. The weight is computed in closed form, never by
 /// dividing by the (near the end points divergent) pdf.
+///
+/// A phase function that draws θ from a density `q` other than its own `p`
+/// (a [`TableSampled`](crate::phase::TableSampled) one) has `q` in place of
+/// `p` in the pdf and the ratio in the weight,
+/// `k / pdf = (p(θ)/q(θ)) θ / (s sin θ)` ([`PhaseFunction::sample_ratio`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Omnee<F: Real, P> {
     /// The end points and θmax.
@@ -48,7 +53,7 @@ impl<F: Real, P: PhaseFunction<F>> Omnee<F, P> {
     #[inline]
     pub fn sample_deflection(&self, u: [F; 3]) -> Option<(Sample<F>, Deflection<F>)> {
         let axis = &self.connection.axis;
-        let (d, phase_pdf) = self.phase.sample_pdf(u[0]);
+        let (d, phase_pdf, ratio) = self.phase.sample_ratio(u[0]);
         if !(d.theta < self.connection.theta_max) {
             return None;
         }
@@ -59,7 +64,7 @@ impl<F: Real, P: PhaseFunction<F>> Omnee<F, P> {
         let sample = Sample {
             x1: axis.place_turn(&triangle, u[2])?,
             pdf: self.density(phase_pdf, triangle.sinc_theta, triangle.d1, triangle.d2),
-            weight: saturate(F::ONE / (axis.s * triangle.sinc_theta)),
+            weight: saturate(ratio / (axis.s * triangle.sinc_theta)),
         };
         Some((sample, d))
     }
@@ -67,7 +72,7 @@ impl<F: Real, P: PhaseFunction<F>> Omnee<F, P> {
 
 impl<F: Real, P: PhaseFunction<F>> Technique<F> for Omnee<F, P> {
     /// `θ = Θ(u0)` from the phase function, `β/θ = u1`, `φ = 2π u2`;
-    /// weight `1 / (s sinc θ)`.
+    /// weight `(p/q) / (s sinc θ)` (`p/q = 1` for exact phase samplers).
     #[inline]
     fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
         self.sample_deflection(u).map(|(sample, _)| sample)
