@@ -402,7 +402,7 @@ impl_real!(f64, glam::DVec3, f64, f64, 1.490_116_119_384_765_6e-8);
 /// `sin x / x = S(x²)` on `|x| ≤ π/2`: degree 5 in `z = x²`, least-squares
 /// in the Chebyshev basis on `[0, π²/4]`, maximum error 1.7e-11 (degree 4
 /// would give 6.7e-9, 0.1 f32 ulp, and results up to 0.61 ulp off).
-const SIN_ACUTE: [f64; 6] = [
+pub(crate) const SIN_ACUTE: [f64; 6] = [
     0.999_999_999_982_919_1,
     -0.166_666_666_168_155_67,
     0.008_333_330_974_207_583,
@@ -413,7 +413,7 @@ const SIN_ACUTE: [f64; 6] = [
 
 /// `atan(√w)/√w = Q(w)` on `w ∈ [0, 1]`: degree 10, fitted as
 /// [`SIN_ACUTE`], maximum error 4.5e-10.
-const ATAN_SQRT: [f64; 11] = [
+pub(crate) const ATAN_SQRT: [f64; 11] = [
     0.999_999_999_553_537_6,
     -0.333_333_224_889_115_93,
     0.199_995_581_003_639_82,

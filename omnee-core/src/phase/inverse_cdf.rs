@@ -447,6 +447,22 @@ mod tests {
         check::<f64, _>("rayleigh", &Rayleigh);
         check::<f64, _>("iso", &Isotropic);
         check::<f64, _>("tthg", &TwoTermHg::two_term(0.99, -0.44, 0.96).unwrap());
+        // A measured table: FF averaged over 64 bins (log-spaced to 10°).
+        let ff = FournierForand::<f64>::new(0.0183, 1.10).unwrap();
+        let mut edges = std::vec![0.0f64];
+        edges.extend((0..33).map(|i| (0.1f64 * libm::pow(100.0, i as f64 / 32.0)).to_radians()));
+        edges.extend((1..=31).map(|i| (10.0 + 170.0 * i as f64 / 31.0).to_radians()));
+        *edges.last_mut().unwrap() = core::f64::consts::PI;
+        let values: std::vec::Vec<f64> = edges
+            .windows(2)
+            .map(|w| {
+                let (a, b) = (Deflection::from_theta(w[0]), Deflection::from_theta(w[1]));
+                (ff.cdf(b) - ff.cdf(a)) / (b.one_minus_cos - a.one_minus_cos)
+            })
+            .collect();
+        let mut cdf = std::vec![0.0; edges.len()];
+        let measured = super::super::Tabulated::new(&edges, &values, &mut cdf).unwrap();
+        check::<f64, _>("measured", &measured);
         report(
             "size of InverseCdf<f32>",
             core::mem::size_of::<InverseCdf<f32>>() as f64,
