@@ -7,7 +7,7 @@
 
 use crate::phase::{Deflection, PhaseFunction};
 use crate::real::Real;
-use crate::sampling::{Omnee, Sample, Technique, saturate};
+use crate::sampling::{Draw, Omnee, Sample, Technique, saturate};
 
 /// The MIS heuristic.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -289,6 +289,19 @@ impl<'a, F: Real, P: PhaseFunction<F>> OmneeMis<'a, F, P> {
             None
         };
         [omnee, companion]
+    }
+
+    /// [`Self::sample`] as a [`Draw`], with the numbers pulled from `next`:
+    /// six today, OMNEE's three and then the companion's. Callers that take
+    /// the numbers from a source rather than an array keep working when the
+    /// companion's numbers are pulled only when it is drawn.
+    pub fn draw(&self, mut next: impl FnMut() -> F) -> Draw<F> {
+        let u = [next(), next(), next(), next(), next(), next()];
+        Draw {
+            u,
+            taken: 6,
+            vertices: self.sample(u),
+        }
     }
 
     /// A vertex of the technique drawn `count` times on average, with the
