@@ -53,9 +53,11 @@ pub enum Method {
     /// `p(θ) / (d1² pdf_ω(ω) pdf(t))`.
     Distance,
     /// OMNEE's vertex over the whole range θ < θmax and, with probability
-    /// [`OmneeMis::RATE`] (0.05), an equiangular vertex behind the backward
-    /// cone θ ≥ [`OmneeMis::THETA_MIN`] (3π/4): [`OmneeMis::recommended`],
-    /// balance heuristic behind the cone, OMNEE alone in front of it.
+    /// c = [`OmneeMis::RATE`] (0.05), an equiangular vertex behind the
+    /// backward cone θ ≥ [`OmneeMis::THETA_MIN`] (3π/4):
+    /// [`OmneeMis::recommended`], the balance heuristic over the expected
+    /// counts 1 and c behind the cone (each vertex's weight
+    /// `k / (p_O + c p_C)`), OMNEE alone in front of it.
     Mis,
 }
 
@@ -142,6 +144,21 @@ impl<F: Real, P: PhaseFunction<F>> Setup<F, P> {
             region,
             sigma_t,
         })
+    }
+
+    /// The same setup with rays from `x2` drawn by `directions` (a renderer
+    /// sets the receiver's cosine-weighted directions per shading point; σt
+    /// stays checked).
+    pub fn with_directions(&self, directions: Directions<F>) -> Self
+    where
+        P: Clone,
+    {
+        Self {
+            phase: self.phase.clone(),
+            directions,
+            region: self.region,
+            sigma_t: self.sigma_t,
+        }
     }
 
     /// The phase function at `x1`.
@@ -281,6 +298,14 @@ mod tests {
         for good in [0.0, 1e-300, 0.55, 1e300] {
             assert_eq!(setup(good).unwrap().sigma_t(), good);
         }
+        let cosine = Directions::cosine(DVec3::Z).unwrap();
+        let turned = setup(0.55).unwrap().with_directions(cosine);
+        assert_eq!(turned.directions(), cosine);
+        assert_eq!(
+            (turned.sigma_t(), turned.region()),
+            (0.55, Region::Everywhere)
+        );
+        assert_eq!(turned.phase(), setup(0.55).unwrap().phase());
     }
 
     /// The setup of the tests: HG 0.7 in a slab, cosine directions about a

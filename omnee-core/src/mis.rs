@@ -291,10 +291,11 @@ impl<'a, F: Real, P: PhaseFunction<F>> OmneeMis<'a, F, P> {
         [omnee, companion]
     }
 
-    /// [`Self::sample`] as a [`Draw`], with the numbers pulled from `next`:
-    /// six today, OMNEE's three and then the companion's. Callers that take
-    /// the numbers from a source rather than an array keep working when the
-    /// companion's numbers are pulled only when it is drawn.
+    /// One estimate's vertices as a [`Draw`], the numbers pulled from `next`:
+    /// [`Self::sample`] of six, OMNEE's three and then the companion's
+    /// (`u[3] < c` decides whether it is drawn). The draw records how many
+    /// it took, so taking the companion's numbers only when it is drawn
+    /// would change no caller.
     pub fn draw(&self, mut next: impl FnMut() -> F) -> Draw<F> {
         let u = [next(), next(), next(), next(), next(), next()];
         Draw {
