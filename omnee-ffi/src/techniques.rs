@@ -733,3 +733,152 @@ pub unsafe extern "C" fn omnee_omnee_sample_batch_f32(
     })();
     finish(count, "count", error, result)
 }
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+    use crate::connection::omnee_connection_init_f64;
+    use crate::phase::omnee_phase_hg_f64;
+    use crate::types::omnee_vec3;
+
+    /// A connection, an HG phase function (g = 0.3, so that the companion's
+    /// cone gets vertices) and all-zero rays (sphere, everywhere), in f64.
+    fn setup() -> (omnee_connection_f64, omnee_phase_f64, omnee_rays<f64>) {
+        let (mut c, mut p) = (MaybeUninit::uninit(), MaybeUninit::uninit());
+        let x0 = omnee_vec3 {
+            x: 0.3,
+            y: -0.2,
+            z: 1.1,
+        };
+        let x2 = omnee_vec3 {
+            x: -0.1,
+            y: 0.4,
+            z: 0.2,
+        };
+        let status = omnee_connection_init_f64(Some(&mut c), x0, x2, 3.0, None);
+        assert_eq!(status, omnee_status::OMNEE_OK);
+        assert_eq!(
+            omnee_phase_hg_f64(Some(&mut p), 0.3, None),
+            omnee_status::OMNEE_OK
+        );
+        // SAFETY: the constructor returned OMNEE_OK, so it wrote `c`.
+        let c = unsafe { c.assume_init() };
+        // SAFETY: the constructor returned OMNEE_OK, so it wrote `p`.
+        let p = unsafe { p.assume_init() };
+        (c, p, omnee_rays::default())
+    }
+
+    fn distance(a: omnee_vec3<f64>, b: omnee_vec3<f64>) -> f64 {
+        ((a.x - b.x).powi(2) + (a.y - b.y).powi(2) + (a.z - b.z).powi(2)).sqrt()
+    }
+
+    #[test]
+    fn mis_invert_brings_back_each_vertex() {
+        let (c, p, rays) = setup();
+        let mut state = 7u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut checked, mut worst) = ([0usize; 2], 0.0f64);
+        for _ in 0..20_000 {
+            let u: [f64; 6] = core::array::from_fn(|_| next());
+            let mut draw = MaybeUninit::uninit();
+            // SAFETY: u holds 6 doubles.
+            let status = unsafe {
+                omnee_mis_sample_f64(
+                    Some(&c),
+                    Some(&p),
+                    Some(&rays),
+                    u.as_ptr(),
+                    Some(&mut draw),
+                    None,
+                )
+            };
+            if status != omnee_status::OMNEE_OK {
+                continue;
+            }
+            // SAFETY: written by the OMNEE_OK call above.
+            let draw = unsafe { draw.assume_init() };
+            for (k, vertex) in draw.vertices.iter().enumerate() {
+                if draw.present & (1 << k) == 0 {
+                    continue;
+                }
+                let x1 = vertex.x1;
+                let mut v = [0.0f64; 6];
+                // SAFETY: v has room for 6 doubles.
+                let status = unsafe {
+                    omnee_mis_invert_f64(
+                        Some(&c),
+                        Some(&p),
+                        Some(&rays),
+                        k as u32,
+                        x1,
+                        v.as_mut_ptr(),
+                        None,
+                    )
+                };
+                assert_eq!(status, omnee_status::OMNEE_OK, "vertex {k} at {x1:?}");
+                let mut again = MaybeUninit::uninit();
+                // SAFETY: v holds 6 doubles.
+                let status = unsafe {
+                    omnee_mis_sample_f64(
+                        Some(&c),
+                        Some(&p),
+                        Some(&rays),
+                        v.as_ptr(),
+                        Some(&mut again),
+                        None,
+                    )
+                };
+                assert_eq!(status, omnee_status::OMNEE_OK);
+                // SAFETY: written by the OMNEE_OK call above.
+                let again = unsafe { again.assume_init() };
+                assert!(again.present & (1 << k) != 0);
+                worst =
+                    worst.max(distance(again.vertices[k].x1, x1) / (1.0 + distance(x1, c_x0())));
+                checked[k] += 1;
+            }
+        }
+        std::println!("vertices checked {checked:?}, worst relative distance {worst:.1e}");
+        assert!(checked[0] > 10_000 && checked[1] > 100, "{checked:?}");
+        assert!(worst < 1e-9, "{worst:e}");
+    }
+
+    fn c_x0() -> omnee_vec3<f64> {
+        omnee_vec3 {
+            x: 0.3,
+            y: -0.2,
+            z: 1.1,
+        }
+    }
+
+    #[test]
+    fn a_vertex_in_front_of_the_cone_is_not_the_companions() {
+        let (c, p, rays) = setup();
+        // The midpoint of x0 x2: θ = 0, in front of the cone.
+        let mid = omnee_vec3 {
+            x: 0.1,
+            y: 0.1,
+            z: 0.65,
+        };
+        let mut v = [1.0f64; 6];
+        // SAFETY: v has room for 6 doubles.
+        let status = unsafe {
+            omnee_mis_invert_f64(
+                Some(&c),
+                Some(&p),
+                Some(&rays),
+                1,
+                mid,
+                v.as_mut_ptr(),
+                None,
+            )
+        };
+        assert_eq!(status, omnee_status::OMNEE_NONE);
+        assert_eq!(v, [0.0; 6]);
+    }
+}
