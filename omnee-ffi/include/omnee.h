@@ -507,7 +507,7 @@ omnee_status omnee_phase_table_f64(struct omnee_phase_f64 *phase,
                                    size_t cdf_len,
                                    struct omnee_error *error);
 
-// A phase function from its spec string (NUL-terminated; surrounding
+// A phase function (docs/math.md §7) from its spec string (NUL-terminated; surrounding
 // whitespace ignored): `iso`, `hg:G`, `tthg:G1,G2,W`, `ff:B,N`,
 // `draine:G,ALPHA`, `mie:DIAMETER_UM`, `rayleigh`, or `table:PATH`.
 //
@@ -533,7 +533,7 @@ omnee_status omnee_phase_parse_f64(struct omnee_phase_f64 *phase,
                                    struct omnee_span *table_path,
                                    struct omnee_error *error);
 
-// A deflection from θ ∈ [0, π] (clamped; NaN and ±∞ are errors): 1 ∓ cos θ from
+// A deflection (docs/math.md §4) from θ ∈ [0, π] (clamped; NaN and ±∞ are errors): 1 ∓ cos θ from
 // 2 sin²(θ/2) and 2 cos²(θ/2), accurate at both ends.
 omnee_status omnee_deflection_from_theta_f32(float theta,
                                              struct omnee_deflection_f32 *deflection,
@@ -632,7 +632,7 @@ omnee_status omnee_phase_mean_cosine_f64(const struct omnee_phase_f64 *phase,
                                          double *mean_cosine,
                                          struct omnee_error *error);
 
-// The point-to-point problem of the library's tests: a unit-intensity point
+// The point-to-point problem (docs/math.md §1, §5): a unit-intensity point
 // light at x0, a point receiver at x2, an infinite homogeneous medium with
 // σs = `sigma_s` ≥ 0 and σa = `sigma_a` ≥ 0 (1/m), the integrand restricted
 // to θ < θmax of `connection`:
@@ -713,7 +713,7 @@ omnee_status omnee_error_message(const struct omnee_error *error,
                                  size_t capacity,
                                  size_t *length);
 
-// OMNEE: θ from the phase function by u[0] (no sample if θ ≥ θmax),
+// OMNEE (docs/math.md §3): θ from the phase function by u[0] (no sample if θ ≥ θmax),
 // β/θ = u[1], φ = 2π u[2]; x1 on the circumcircle arc of constant θ through
 // x0 and x2. weight = θ/(s sin θ) (s = |x2 − x0|), pdf =
 // p(θ) (sin θ/θ) s/(d1² d2²). `u` points to 3 finite numbers (clamped into
@@ -774,7 +774,7 @@ omnee_status omnee_omnee_invert_f64(const struct omnee_connection_f64 *connectio
                                     double *u,
                                     struct omnee_error *error);
 
-// Equiangular sampling (Kulla & Fajardo 2012): a ray direction from x2 by
+// Equiangular sampling (Kulla & Fajardo 2012; docs/math.md §8): a ray direction from x2 by
 // u[0], u[1] (`rays`), then the distance along it inside the medium with
 // density ∝ 1/d1². weight = p(θ)/(pdf_ω · c) (0 for θ ≥ θmax).
 //
@@ -838,7 +838,7 @@ omnee_status omnee_equiangular_invert_f64(const struct omnee_connection_f64 *con
                                           double *u,
                                           struct omnee_error *error);
 
-// Distance sampling: a ray direction from x2 by u[0], u[1], then the
+// Distance sampling (docs/math.md §9): a ray direction from x2 by u[0], u[1], then the
 // free-flight distance with density ∝ σ e^{−σt} (σ = `sigma` ≥ 0, usually
 // the medium's σt), truncated to the medium segment.
 //
@@ -906,7 +906,7 @@ omnee_status omnee_distance_invert_f64(const struct omnee_connection_f64 *connec
                                        double *u,
                                        struct omnee_error *error);
 
-// The recommended MIS of the core (`OmneeMis::recommended`): OMNEE's vertex
+// The recommended MIS of the core (`OmneeMis::recommended`, docs/math.md §10): OMNEE's vertex
 // always (from u[0..3]) and, when u[3] < c (c = 0.05), the equiangular
 // companion's (from u[3]/c, u[4], u[5]) if it lies behind the cone
 // θ ≥ 3π/4; balance heuristic behind the cone, OMNEE alone in front of

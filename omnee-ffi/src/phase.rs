@@ -290,7 +290,7 @@ unsafe fn table<F: Precision>(
     finish(out, "phase", error, result)
 }
 
-/// A phase function from its spec string (NUL-terminated; surrounding
+/// A phase function (docs/math.md §7) from its spec string (NUL-terminated; surrounding
 /// whitespace ignored): `iso`, `hg:G`, `tthg:G1,G2,W`, `ff:B,N`,
 /// `draine:G,ALPHA`, `mie:DIAMETER_UM`, `rayleigh`, or `table:PATH`.
 ///
@@ -360,7 +360,7 @@ fn parse<F: Precision>(
     }
 }
 
-/// A deflection from θ ∈ [0, π] (clamped; NaN and ±∞ are errors): 1 ∓ cos θ from
+/// A deflection (docs/math.md §4) from θ ∈ [0, π] (clamped; NaN and ±∞ are errors): 1 ∓ cos θ from
 /// 2 sin²(θ/2) and 2 cos²(θ/2), accurate at both ends.
 #[unsafe(no_mangle)]
 pub extern "C" fn omnee_deflection_from_theta_f32(

@@ -12,7 +12,7 @@ use omnee_core::Error;
 use omnee_core::medium::Homogeneous;
 use omnee_core::reference::PointToPoint;
 
-/// The point-to-point problem of the library's tests: a unit-intensity point
+/// The point-to-point problem (docs/math.md §1, §5): a unit-intensity point
 /// light at x0, a point receiver at x2, an infinite homogeneous medium with
 /// σs = `sigma_s` ≥ 0 and σa = `sigma_a` ≥ 0 (1/m), the integrand restricted
 /// to θ < θmax of `connection`:
