@@ -713,8 +713,8 @@ omnee_status omnee_error_message(const struct omnee_error *error,
                                  size_t capacity,
                                  size_t *length);
 
-// OMNEE (docs/math.md §3): θ from the phase function by u[0] (no sample if θ ≥ θmax),
-// β/θ = u[1], φ = 2π u[2]; x1 on the circumcircle arc of constant θ through
+// OMNEE (docs/math.md §3): θ from the phase function by `u[0]` (no sample if θ ≥ θmax),
+// β/θ = `u[1]`, φ = 2π `u[2]`; x1 on the circumcircle arc of constant θ through
 // x0 and x2. weight = θ/(s sin θ) (s = |x2 − x0|), pdf =
 // p(θ) (sin θ/θ) s/(d1² d2²). `u` points to 3 finite numbers (clamped into
 // [0, 1]). `OMNEE_NONE` when they map to no vertex that contributes.
@@ -775,7 +775,7 @@ omnee_status omnee_omnee_invert_f64(const struct omnee_connection_f64 *connectio
                                     struct omnee_error *error);
 
 // Equiangular sampling (Kulla & Fajardo 2012; docs/math.md §8): a ray direction from x2 by
-// u[0], u[1] (`rays`), then the distance along it inside the medium with
+// `u[0]`, `u[1]` (`rays`), then the distance along it inside the medium with
 // density ∝ 1/d1². weight = p(θ)/(pdf_ω · c) (0 for θ ≥ θmax).
 //
 // # Safety
@@ -838,7 +838,7 @@ omnee_status omnee_equiangular_invert_f64(const struct omnee_connection_f64 *con
                                           double *u,
                                           struct omnee_error *error);
 
-// Distance sampling (docs/math.md §9): a ray direction from x2 by u[0], u[1], then the
+// Distance sampling (docs/math.md §9): a ray direction from x2 by `u[0]`, `u[1]`, then the
 // free-flight distance with density ∝ σ e^{−σt} (σ = `sigma` ≥ 0, usually
 // the medium's σt), truncated to the medium segment.
 //
@@ -907,8 +907,8 @@ omnee_status omnee_distance_invert_f64(const struct omnee_connection_f64 *connec
                                        struct omnee_error *error);
 
 // The recommended MIS of the core (`OmneeMis::recommended`, docs/math.md §10): OMNEE's vertex
-// always (from u[0..3]) and, when u[3] < c (c = 0.05), the equiangular
-// companion's (from u[3]/c, u[4], u[5]) if it lies behind the cone
+// always (from `u[0..3]`) and, when `u[3]` < c (c = 0.05), the equiangular
+// companion's (from `u[3]/c`, `u[4]`, `u[5]`) if it lies behind the cone
 // θ ≥ 3π/4; balance heuristic behind the cone, OMNEE alone in front of
 // it. `u` points to 6 finite numbers. Sum f_c · weight over the present
 // vertices for one estimate. `OMNEE_NONE` when neither is present.
@@ -953,7 +953,7 @@ omnee_status omnee_mis_pdf_f64(const struct omnee_connection_f64 *connection,
 // 6 uniform numbers with which `omnee_mis_sample_f32` returns x1 (up to
 // rounding) as `vertices[vertex]`: vertex 0 (OMNEE's) takes OMNEE's inverse
 // and leaves the companion undrawn; vertex 1 (the companion's) takes the
-// equiangular inverse scaled into u[3] < c. `OMNEE_NONE` when x1 cannot be
+// equiangular inverse scaled into `u[3]` < c. `OMNEE_NONE` when x1 cannot be
 // that vertex (outside θmax, a mixture phase function, a companion vertex
 // in front of the cone).
 //
