@@ -13,7 +13,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 CBINDGEN_VERSION=0.29.4
-out=target/omnee-ffi-ci
+target=${CARGO_TARGET_DIR:-target}
+out=$target/omnee-ffi-ci
 mkdir -p "$out"
 SECONDS=0
 step() { printf '\n--> [%4ds] %s\n' "$SECONDS" "$*"; }
@@ -34,6 +35,12 @@ if ! diff -u omnee-ffi/include/omnee.h "$out/omnee.h"; then
 fi
 
 step "the header compiles as C99 and C++17"
+if ! command -v cc >/dev/null || ! command -v c++ >/dev/null; then
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo=sudo
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends g++ >/dev/null
+fi
 warn=(-Wall -Wextra -Werror -pedantic -Iomnee-ffi/include)
 printf '#include "omnee.h"\nint main(void) { return 0; }\n' >"$out/header.c"
 cc -std=c99 "${warn[@]}" -c "$out/header.c" -o "$out/header_c.o"
@@ -48,7 +55,7 @@ c++ -std=c++17 "${warn[@]}" -c "$out/header.cpp" -o "$out/header_cpp.o"
 
 step "staticlib (release)"
 cargo build --locked --release -p omnee-ffi
-lib=(target/release/libomnee_ffi.a -lm -lpthread -ldl)
+lib=("$target/release/libomnee_ffi.a" -lm -lpthread -ldl)
 c++ "$out/header_cpp.o" "${lib[@]}" -o "$out/header_cpp" && "$out/header_cpp"
 
 step "C programs under AddressSanitizer and UndefinedBehaviorSanitizer"
