@@ -1,6 +1,6 @@
 //! The statistics of the tests: the regularized incomplete gamma function,
 //! χ² and normal tails, Šidák's family correction and Pearson's χ² with the
-//! pooling of Mitsuba 3's and pbrt-v4's harnesses (REFERENCE.md §3.1).
+//! pooling of Mitsuba 3's and pbrt-v4's harnesses (docs/math.md §5.6).
 
 /// ln Γ(x) for x > 0 (Lanczos, g = 7, 9 terms; relative error ~1e-15).
 pub fn ln_gamma(x: f64) -> f64 {
