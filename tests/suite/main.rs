@@ -14,4 +14,5 @@ mod chi2;
 mod harness;
 mod properties;
 mod stability;
+mod tables;
 mod unbiased;

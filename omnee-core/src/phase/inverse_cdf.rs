@@ -50,7 +50,7 @@ const HEAD_A_MIN: f64 = 0.01;
 /// `q = 1 / (2π N x₁ t^{1/a − 1} / a)`. It is positive on all of (0, π), so
 /// `p/q` importance-weights any integrand of `p` without bias.
 ///
-/// Size: `4 N + 2` values of `F` and an index: 2064 bytes in f32, 4112 in
+/// Size: `4 N + 2` values of `F` and an index: 2064 bytes in f32, 4120 in
 /// f64 (`core::mem::size_of::<InverseCdf<f32>>()`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct InverseCdf<F> {
