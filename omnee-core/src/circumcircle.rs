@@ -216,6 +216,17 @@ impl<F: Real> Triangle<F> {
     /// non-finite input.
     #[inline(always)]
     pub fn solve(s: F, deflection: Deflection<F>, beta_ratio: F) -> Option<Self> {
+        Self::solve_with_beta(s, deflection, beta_ratio).map(|(t, _, _)| t)
+    }
+
+    /// [`solve`](Self::solve) with `(sin β, cos β)` of the angle at `x2`,
+    /// which place `x1` from `x2`: `x1 − x2 = d2 (sin β ρ − cos β e)`.
+    #[inline(always)]
+    pub(crate) fn solve_with_beta(
+        s: F,
+        deflection: Deflection<F>,
+        beta_ratio: F,
+    ) -> Option<(Self, F, F)> {
         let theta = deflection.theta;
         if !(theta >= F::ZERO
             && theta < F::PI
@@ -233,10 +244,10 @@ impl<F: Real> Triangle<F> {
         let (sin_small, cos_small) = small.sin_cos_acute();
         let sin_large = sin_theta * cos_small - cos_theta * sin_small;
         let cos_large = cos_theta * cos_small + sin_theta * sin_small;
-        let (sin_alpha, cos_alpha, sin_beta) = if beta_is_smaller {
-            (sin_large, cos_large, sin_small)
+        let (sin_alpha, cos_alpha, sin_beta, cos_beta) = if beta_is_smaller {
+            (sin_large, cos_large, sin_small, cos_small)
         } else {
-            (sin_small, cos_small, sin_large)
+            (sin_small, cos_small, sin_large, cos_large)
         };
         let (d1, d2, sinc_theta) = if sinc_is_series(theta) {
             let sinc_theta = sinc(theta);
@@ -248,13 +259,17 @@ impl<F: Real> Triangle<F> {
             let scale = s / sin_theta;
             (scale * sin_beta, scale * sin_alpha, sin_theta / theta)
         };
-        (d1.is_finite() && d2.is_finite() && sinc_theta > F::ZERO).then_some(Self {
-            d1,
-            d2,
-            sinc_theta,
-            sin_alpha,
-            cos_alpha,
-        })
+        (d1.is_finite() && d2.is_finite() && sinc_theta > F::ZERO).then_some((
+            Self {
+                d1,
+                d2,
+                sinc_theta,
+                sin_alpha,
+                cos_alpha,
+            },
+            sin_beta,
+            cos_beta,
+        ))
     }
 }
 
