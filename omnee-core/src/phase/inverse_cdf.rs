@@ -1,6 +1,6 @@
 //! Tabulated inverse CDFs: any phase function sampled at the cost of a
 //! table lookup and a cubic, with the table's own density carried into the
-//! estimate so that nothing is biased (MATH.md §11).
+//! estimate so that nothing is biased (docs/math.md §11).
 //!
 //! [`InverseCdf`] tabulates `u ↦ θ` on [`INVERSE_CDF_BINS`] equal-probability
 //! bins: a power law in the first bin (where a forward peak like
