@@ -189,8 +189,8 @@ pub fn estimate<'py>(
     sigma_t: f64,
     phase: Option<&Bound<'py, PyAny>>,
     technique: &str,
-    samples: u64,
-    seed: u64,
+    samples: i128,
+    seed: i128,
     theta_max: f64,
     receiver_normal: Option<&Bound<'py, PyAny>>,
     dtype: Option<&Bound<'py, PyAny>>,
@@ -208,11 +208,17 @@ pub fn estimate<'py>(
         None => Precision::F32,
     };
     let range = |r: Range, field, x| r.check(field, x).map_err(error::cli);
-    range(
-        Range::closed(1.0, (1u64 << 40) as f64),
-        "samples",
-        samples as f64,
-    )?;
+    let samples = u64::try_from(samples)
+        .ok()
+        .filter(|n| (1..=1 << 40).contains(n))
+        .ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "samples = {samples} is out of range; allowed: [1, 2^40]"
+            ))
+        })?;
+    let seed = u64::try_from(seed).map_err(|_| {
+        PyValueError::new_err(format!("seed = {seed} is out of range; allowed: [0, 2^64)"))
+    })?;
     range(Range::NON_NEGATIVE, "sigma_s", sigma_s)?;
     if !(sigma_t.is_finite() && sigma_t >= sigma_s) {
         return Err(PyValueError::new_err(format!(

@@ -340,14 +340,16 @@ impl Technique {
 
     /// The light-side end point.
     #[getter]
-    fn x0(&self) -> [f64; 3] {
-        self.config.x0
+    fn x0(&self) -> (f64, f64, f64) {
+        let [x, y, z] = self.config.x0;
+        (x, y, z)
     }
 
     /// The receiver-side end point.
     #[getter]
-    fn x2(&self) -> [f64; 3] {
-        self.config.x2
+    fn x2(&self) -> (f64, f64, f64) {
+        let [x, y, z] = self.config.x2;
+        (x, y, z)
     }
 
     /// The restriction θ < θmax of the integrand, θmax ∈ (0, π].
