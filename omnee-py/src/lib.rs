@@ -3,18 +3,18 @@
 //! numpy arrays in, numpy arrays out, in the idiom of Mitsuba 3's warp
 //! functions (`square_to_X`, `square_to_X_pdf`, `X_to_square` over arrays):
 //!
-//! - [`phase::Phase`]: a phase function from its spec string, with `eval`,
+//! - `Phase` (module `phase`): a phase function from its spec string, with `eval`,
 //!   `sample`, `pdf`, `cdf`, `invert` over arrays and `mean_cosine`;
-//! - [`technique::Technique`] and its subclasses `Omnee`, `Equiangular`,
+//! - `Technique` (module `technique`) and its subclasses `Omnee`, `Equiangular`,
 //!   `Distance`, `Mis`: `sample(u)`, `pdf(x1)`, `invert(x1)` over arrays of
 //!   uniform tuples or points;
-//! - [`estimate::estimate`]: the point-to-point integral of `omnee estimate`,
+//! - `estimate` (module `estimate`): the point-to-point integral of `omnee estimate`,
 //!   the same numbers for the same seed.
 //!
 //! A float32 array is computed in f32 and answered in float32, anything
-//! else accepted in f64 ([`array`]). The GIL is released while the core
+//! else accepted in f64 (module `array`). The GIL is released while the core
 //! samples; bad input raises `ValueError` or `TypeError` naming the argument
-//! and what is allowed ([`error`]). The binding holds no `unsafe` code: the
+//! and what is allowed (module `error`). The binding holds no `unsafe` code: the
 //! foreign boundary is PyO3's and rust-numpy's.
 
 mod array;
