@@ -18,6 +18,11 @@ Each configuration (phase g × light inside/above the slab):
   the K render means; CPU seconds from time.process_time of this process.
 - efficiency = 1 / (stderr² · CPU seconds), independent of the budget;
   z = (omnee − Mitsuba) / √(se_o² + se_m²), the disagreement in standard errors.
+
+`--point-light` replaces the sphere by a point light of the same intensity
+(I = π R² L) on both sides and adds the reference value of quadrature.py
+(numpy and scipy, independent of both renderers), with each side's
+disagreement from it in its own standard errors.
 """
 
 import argparse
@@ -45,9 +50,17 @@ METER_RADIUS = 1e-3
 G_VALUES = (0.0, 0.5, 0.9, 0.98)
 
 
-def scene_toml(g, light):
+# The point light of `--point-light`: the sphere's intensity π R² L.
+INTENSITY = np.pi * LIGHT_RADIUS**2 * RADIANCE
+
+
+def scene_toml(g, light, point_light=False):
     """The omnee scene: the default scene's slab and light, the floor at the
     point's height, no occluder."""
+    if point_light:
+        emitter = f"radius = 0.0\nintensity = {INTENSITY!r}"
+    else:
+        emitter = f"radius = {LIGHT_RADIUS}\nradiance = {RADIANCE}"
     return f"""[medium]
 sigma_s = {SIGMA_S}
 sigma_a = {SIGMA_A}
@@ -58,14 +71,13 @@ z_max = {Z_MAX}
 z = {POINT[2]}
 [light]
 center = [{light[0]}, {light[1]}, {light[2]}]
-radius = {LIGHT_RADIUS}
-radiance = {RADIANCE}
+{emitter}
 [camera]
 position = [0.0, -1.1, 2.2]
 """
 
 
-def mitsuba_scene(mi, g, light, spp):
+def mitsuba_scene(mi, g, light, spp, point_light=False):
     """The same scene for Mitsuba: a homogeneous medium inside a 200 m × 200 m
     box z ∈ [0, 1] with an index-matched (null) boundary, the sphere light
     (inside the medium when its centre is), and an irradiance meter on a
@@ -80,6 +92,8 @@ def mitsuba_scene(mi, g, light, spp):
     }
     if Z_MIN < light[2] < Z_MAX:
         sphere["exterior"] = {"type": "ref", "id": "fog"}
+    if point_light:
+        sphere = {"type": "point", "position": list(light), "intensity": {"type": "rgb", "value": INTENSITY}}
     return mi.load_dict({
         "type": "scene",
         # Depth 1 is the light seen directly (hidden), depth 2 one scattering
@@ -134,8 +148,8 @@ def render(mi, scene, spp, seed):
     return float(np.array(mi.render(scene, spp=spp, seed=seed))[0, 0, 0])
 
 
-def mitsuba_side(mi, g, light, seconds, renders):
-    scene = mitsuba_scene(mi, g, light, 1)
+def mitsuba_side(mi, g, light, seconds, renders, point_light):
+    scene = mitsuba_scene(mi, g, light, 1, point_light)
     render(mi, scene, 256, seed=10_000)  # warm-up (compiles kernels on the LLVM variant)
     c0 = time.process_time()
     render(mi, scene, 4096, seed=10_001)
@@ -164,6 +178,8 @@ def main():
     ap.add_argument("--technique", default="auto", help="omnee probe --technique")
     ap.add_argument("--g", type=float, nargs="*", default=list(G_VALUES))
     ap.add_argument("--lights", nargs="*", default=list(LIGHTS))
+    ap.add_argument("--point-light", action="store_true",
+                    help="a point light of the sphere's intensity, with the quadrature reference")
     ap.add_argument("--json", help="also write the rows as JSON lines to this file")
     a = ap.parse_args()
 
@@ -183,15 +199,22 @@ def main():
             for g in a.g:
                 scene = os.path.join(tmp, f"scene-{where}-{g}.toml")
                 with open(scene, "w") as f:
-                    f.write(scene_toml(g, light))
+                    f.write(scene_toml(g, light, a.point_light))
                 o = omnee_side(a.omnee, scene, a.technique, a.seconds)
-                m = mitsuba_side(mi, g, light, a.seconds, a.renders)
+                m = mitsuba_side(mi, g, light, a.seconds, a.renders, a.point_light)
                 z = (o["mean"] - m["mean"]) / np.hypot(o["stderr"], m["stderr"])
                 row = dict(light=where, g=g, omnee=o, mitsuba=m, z=z,
                            ratio=efficiency(o) / efficiency(m))
+                if a.point_light:
+                    from quadrature import once_more_irradiance
+
+                    ref = once_more_irradiance(light, POINT, INTENSITY, SIGMA_S, SIGMA_S + SIGMA_A, g, Z_MIN, Z_MAX)
+                    row.update(reference=ref, z_omnee=(o["mean"] - ref) / o["stderr"],
+                               z_mitsuba=(m["mean"] - ref) / m["stderr"])
                 rows.append(row)
                 print(json.dumps(row), file=sys.stderr, flush=True)
-    print(f"# load average {os.getloadavg()[0]:.1f} at the end\n")
+    print(f"# load average {os.getloadavg()[0]:.1f} at the end; "
+          f"{'point light, I = pi R^2 L' if a.point_light else 'sphere light'}\n")
     print("| light | g | omnee (technique) mean ± se | Mitsuba volpath mean ± se | z | omnee CPU s, samples | "
           "Mitsuba CPU s, samples | efficiency omnee / Mitsuba |")
     print("|---|---|---|---|---|---|---|---|")
@@ -200,6 +223,11 @@ def main():
         print(f"| {r['light']} | {r['g']} | {o['mean']:.5g} ± {o['stderr']:.2g} ({o['technique']}) | "
               f"{m['mean']:.5g} ± {m['stderr']:.2g} | {r['z']:+.1f} | {o['cpu']:.2f}, {o['samples']:.3g} | "
               f"{m['cpu']:.2f}, {m['samples']:.3g} | {r['ratio']:.3g} |")
+    if a.point_light:
+        print("\n| light | g | quadrature | omnee − quadrature (in se) | Mitsuba − quadrature (in se) |")
+        print("|---|---|---|---|---|")
+        for r in rows:
+            print(f"| {r['light']} | {r['g']} | {r['reference']:.6g} | {r['z_omnee']:+.1f} | {r['z_mitsuba']:+.1f} |")
     if a.json:
         with open(a.json, "w") as f:
             for r in rows:
