@@ -243,3 +243,18 @@ def test_accessors_and_repr():
     assert t.x0 == X0 and t.x2 == X2 and t.theta_max == np.pi and t.phase.spec == "hg:0.5"
     assert isinstance(t, omnee.Technique)
     assert repr(t).startswith("omnee.Distance(x0=[0.3, -0.2, 1.0]") and "sigma_t=0.25" in repr(t)
+
+
+def test_concurrent_calls_from_python_threads_agree_with_serial_ones():
+    """The GIL is released while the core samples: calls from several Python
+    threads run at the same time and give the serial results."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    t = techniques()["omnee"]
+    inputs = [uniforms(50_000, seed=k) for k in range(8)]
+    serial = [t.sample(u) for u in inputs]
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        parallel = list(pool.map(t.sample, inputs))
+    for a, b in zip(serial, parallel):
+        for x, y in zip(a, b):
+            np.testing.assert_array_equal(x, y)
