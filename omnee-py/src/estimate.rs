@@ -1,6 +1,13 @@
 //! `omnee.estimate`: the point-to-point once-more integral of
 //! `omnee estimate`, with the same random streams, so the same seed gives
 //! the same numbers as `omnee estimate --json`.
+//!
+//! `Problem::run` repeats the loop of the CLI's private estimate driver
+//! (chunks of `CHUNK` draws, stream `(seed, k, 0x6573_7469)`, sums added in
+//! chunk order), because the CLI does not expose it as a function; the
+//! tests compare the two bit for bit. Once the CLI's library has a public
+//! `estimate(&EstimateArgs) -> Result<Estimate>`, this module validates the
+//! arguments with Python's field names and calls it.
 
 use crate::array::vec3;
 use crate::error;
