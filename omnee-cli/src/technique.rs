@@ -1,15 +1,33 @@
 //! The techniques for placing the once-more vertex `x1`, shared by `render`,
 //! `probe`, `estimate` and `samples`, and the `auto` choice between them.
 
-use crate::error::{CliError, Result};
 use crate::rng::Rng;
+use clap::ValueEnum;
 use omnee_core::Real;
-use omnee_core::medium::Region;
+use omnee_core::medium::{Homogeneous, Region};
 use omnee_core::mis::OmneeMis;
 use omnee_core::phase::PhaseFunction;
 use omnee_core::sampling::{
-    Connection, Directions, Distance, Equiangular, Omnee, Sample, Technique,
+    Connection, Directions, Distance, Equiangular, Omnee, Sample, Technique as _,
 };
+
+/// A technique for the once-more term as asked for (`--technique`, the
+/// scene's `render.technique`): one of the four, or `auto`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Technique {
+    /// the deflection from the phase function, then x1 on the circumcircle arc
+    Omnee,
+    /// a direction from the receiver, then the distance equiangular towards the light
+    Equiangular,
+    /// a direction from the receiver, then an exponential free-flight distance
+    Distance,
+    /// OMNEE over the whole range, and for 5 % of the connections one more, equiangular, vertex kept behind theta = 3 pi/4 (multi-sample MIS, balance heuristic there)
+    Mis,
+    /// OMNEE, or mis in a thin medium with a broad phase function; says what it picked and why
+    Auto,
+}
+
+crate::names::display_by_name!(Technique);
 
 /// A technique for the once-more term.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -30,12 +48,18 @@ pub enum Tech {
 
 impl Tech {
     /// The name on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            Tech::Omnee => "omnee",
-            Tech::Equiangular => "equiangular",
-            Tech::Distance => "distance",
-            Tech::Mis => "mis",
+    pub fn name(self) -> String {
+        Technique::from(self).to_string()
+    }
+}
+
+impl From<Tech> for Technique {
+    fn from(tech: Tech) -> Self {
+        match tech {
+            Tech::Omnee => Technique::Omnee,
+            Tech::Equiangular => Technique::Equiangular,
+            Tech::Distance => Technique::Distance,
+            Tech::Mis => Technique::Mis,
         }
     }
 }
@@ -45,40 +69,31 @@ impl Tech {
 pub struct Choice {
     /// The technique used.
     pub tech: Tech,
-    /// What was asked for (`auto` or the technique's name).
-    pub requested: String,
+    /// What was asked for.
+    pub requested: Technique,
     /// For `auto`: the reason, in a sentence.
     pub reason: Option<String>,
 }
 
-/// Resolves a technique name; `auto` picks from the phase function's mean
+/// Resolves `requested`; `auto` picks from the phase function's mean
 /// cosine `g` and the optical thickness `tau = σt · distance` of a typical
 /// connection ([`auto`]).
-pub fn choose(field: &str, name: &str, g: f64, tau: f64) -> Result<Choice> {
-    let tech = match name {
-        "omnee" => Tech::Omnee,
-        "equiangular" => Tech::Equiangular,
-        "distance" => Tech::Distance,
-        "mis" => Tech::Mis,
-        "auto" => {
+pub fn choose(requested: Technique, g: f64, tau: f64) -> Choice {
+    let (tech, reason) = match requested {
+        Technique::Omnee => (Tech::Omnee, None),
+        Technique::Equiangular => (Tech::Equiangular, None),
+        Technique::Distance => (Tech::Distance, None),
+        Technique::Mis => (Tech::Mis, None),
+        Technique::Auto => {
             let (tech, reason) = auto(g, tau);
-            return Ok(Choice {
-                tech,
-                requested: "auto".into(),
-                reason: Some(reason),
-            });
-        }
-        _ => {
-            return Err(CliError::Input(format!(
-                "{field} = \"{name}\" is not a technique; allowed: omnee, equiangular, distance, mis, auto"
-            )));
+            (tech, Some(reason))
         }
     };
-    Ok(Choice {
+    Choice {
         tech,
-        requested: name.into(),
-        reason: None,
-    })
+        requested,
+        reason,
+    }
 }
 
 /// The optical thickness below which `auto` adds equiangular sampling
@@ -121,16 +136,15 @@ pub fn auto(g: f64, tau: f64) -> (Tech, String) {
     }
 }
 
-/// Everything a technique needs besides the connection.
-pub struct Setup<'p, F: Real, P> {
-    /// The phase function at `x1`.
-    pub phase: &'p P,
-    /// Ray directions from the receiver (equiangular, distance, MIS).
-    pub directions: Directions<F>,
-    /// Where the medium is.
-    pub region: Region<F>,
-    /// Extinction σt (the free-flight coefficient of distance sampling).
-    pub sigma_t: F,
+/// What every technique needs besides the connection and the ray
+/// directions: the phase function at `x1`, where the medium is, and its
+/// extinction σt (distance sampling's free-flight coefficient), checked once
+/// by [`Setup::new`].
+#[derive(Clone, Copy, Debug)]
+pub struct Setup<F: Real, P> {
+    phase: P,
+    region: Region<F>,
+    sigma_t: F,
 }
 
 /// One draw of a technique: the uniform numbers it took and its vertices,
@@ -145,32 +159,57 @@ pub struct Draw<F: Real> {
     pub vertices: [Option<Sample<F>>; 2],
 }
 
-impl<F: Real, P: PhaseFunction<F>> Setup<'_, F, P> {
-    /// One draw for `connection` (whose θmax is the integrand's) with `tech`:
+impl<F: Real, P: PhaseFunction<F>> Setup<F, P> {
+    /// The setup for `phase` in `region` with extinction `sigma_t`: σt must
+    /// be finite and non-negative (the core's rule for an extinction
+    /// coefficient, which distance sampling applies to its free-flight
+    /// coefficient).
+    pub fn new(phase: P, region: Region<F>, sigma_t: F) -> Result<Self, omnee_core::Error> {
+        Homogeneous::from_extinction(F::ZERO, sigma_t)?;
+        Ok(Self {
+            phase,
+            region,
+            sigma_t,
+        })
+    }
+
+    /// The phase function at `x1`.
+    pub fn phase(&self) -> &P {
+        &self.phase
+    }
+
+    /// One draw for `connection` (whose θmax is the integrand's) with `tech`
+    /// and ray `directions` from the receiver (equiangular, distance, MIS):
     /// three uniform numbers from `rng`, six for `mis`.
-    pub fn sample(&self, tech: Tech, connection: Connection<F>, rng: &mut Rng) -> Draw<F> {
+    pub fn sample(
+        &self,
+        tech: Tech,
+        connection: Connection<F>,
+        directions: Directions<F>,
+        rng: &mut Rng,
+    ) -> Draw<F> {
         let [a, b, c] = rng.uniform3::<F>();
         let one = |s: Option<Sample<F>>| Draw {
             u: [a, b, c, F::ZERO, F::ZERO, F::ZERO],
             vertices: [s, None],
         };
+        let phase = &self.phase;
         match tech {
-            Tech::Omnee => one(Omnee::new(connection, self.phase).sample([a, b, c])),
-            Tech::Equiangular => one(self.equiangular(connection).sample([a, b, c])),
-            Tech::Distance => one(Distance::new(
-                connection,
-                self.phase,
-                self.directions,
-                self.region,
-                self.sigma_t,
-            )
-            .ok()
-            .and_then(|t| t.sample([a, b, c]))),
+            Tech::Omnee => one(Omnee::new(connection, phase).sample([a, b, c])),
+            Tech::Equiangular => {
+                one(Equiangular::new(connection, phase, directions, self.region).sample([a, b, c]))
+            }
+            Tech::Distance => {
+                match Distance::new(connection, phase, directions, self.region, self.sigma_t) {
+                    Ok(distance) => one(distance.sample([a, b, c])),
+                    Err(_) => unreachable!("Setup::new checked sigma_t by the same rule"),
+                }
+            }
             Tech::Mis => {
                 let [d, e, f] = rng.uniform3::<F>();
                 let u = [a, b, c, d, e, f];
-                let equiangular = self.equiangular(connection);
-                let mis = OmneeMis::recommended(Omnee::new(connection, self.phase), &equiangular);
+                let equiangular = Equiangular::new(connection, phase, directions, self.region);
+                let mis = OmneeMis::recommended(Omnee::new(connection, phase), &equiangular);
                 Draw {
                     u,
                     vertices: mis.sample(u),
@@ -178,8 +217,13 @@ impl<F: Real, P: PhaseFunction<F>> Setup<'_, F, P> {
             }
         }
     }
+}
 
-    fn equiangular(&self, connection: Connection<F>) -> Equiangular<F, &P> {
-        Equiangular::new(connection, self.phase, self.directions, self.region)
-    }
+/// How the once-more term is estimated.
+#[derive(Clone, Copy, Debug)]
+pub struct OnceMore {
+    /// The technique for `x1`.
+    pub tech: Tech,
+    /// The integrand's restriction θ < θmax.
+    pub theta_max: f32,
 }
