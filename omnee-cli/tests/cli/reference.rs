@@ -101,7 +101,7 @@ fn a_small_render_matches_the_stored_reference() {
             // light seen through a g = 0.98 medium: a heavy-tailed estimator
             // (relative standard error 15-25 % even in the reference), whose
             // standard error 32 runs cannot estimate reliably. The view
-            // estimator is checked against quadrature in world.rs instead.
+            // estimator is checked against quadrature in world/view.rs instead.
             if l == "view" && q < 2 {
                 continue;
             }
