@@ -128,11 +128,11 @@ pub fn run(a: ProbeArgs) -> Result<()> {
     let mut terms = serde_json::Map::new();
     if direct {
         let (m, e) = md.mean_stderr(samples);
-        terms.insert("direct".into(), json!({"mean": m, "stderr": e}));
+        terms.insert(Term::Direct.to_string(), json!({"mean": m, "stderr": e}));
     }
     if once_more {
         let (m, e) = mo.mean_stderr(samples);
-        terms.insert("once-more".into(), json!({"mean": m, "stderr": e}));
+        terms.insert(Term::OnceMore.to_string(), json!({"mean": m, "stderr": e}));
     }
     let (tech, requested, reason) = choice_json(&choice);
     let v = json!({

@@ -199,6 +199,22 @@ mod tests {
     }
 
     #[test]
+    fn the_default_scenes_comments_name_every_term_and_technique() {
+        let line = |key: &str| {
+            DEFAULT_SCENE
+                .lines()
+                .find(|l| l.starts_with(key))
+                .unwrap_or_else(|| panic!("no {key} line"))
+        };
+        for t in TERMS {
+            assert!(line("terms =").contains(&format!("\"{t}\"")), "{t}");
+        }
+        for t in <crate::technique::Technique as ValueEnum>::value_variants() {
+            assert!(line("technique =").contains(&t.to_string()), "{t}");
+        }
+    }
+
+    #[test]
     fn a_scene_source_is_a_builtin_name_or_a_file() {
         assert_eq!(
             Source::parse("default"),
