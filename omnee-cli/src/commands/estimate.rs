@@ -79,9 +79,9 @@ fn estimate<F: Real>(
                 let mut m = Moments::default();
                 let mut accepted = 0u64;
                 for _ in 0..count {
-                    let vertices = sampler.draw(&mut rng).vertices;
-                    accepted += u64::from(vertices[0].is_some());
-                    m.push(vertices.iter().flatten().map(|s| sampler.estimate(s)).sum());
+                    let draw = sampler.draw(&mut rng);
+                    accepted += u64::from(draw.vertices[0].is_some());
+                    m.push(draw.sum(|s| sampler.estimate(s)));
                 }
                 (m, accepted)
             })

@@ -86,7 +86,7 @@ pub fn run(a: ProbeArgs) -> Result<()> {
     let choice = technique::choose(a.technique, g, scene.medium.sigma_t() * dist);
     let once_more = a.terms.contains(&Term::OnceMore) && world.scatters();
     let how = OnceMore {
-        tech: choice.tech,
+        method: choice.method,
         theta_max: theta_max as f32,
     };
     let v3 = |v: [f64; 3]| Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32);

@@ -8,12 +8,13 @@ use crate::error::{CliError, Result, core_error};
 use crate::phase::{PhaseSpec, TableStorage};
 use crate::range::Range;
 use crate::rng::Rng;
-use crate::technique::{self, Choice, Draw, Setup, Tech, Technique};
+use crate::technique::{self, Choice, Technique};
 use clap::{Args, ValueEnum};
 use omnee_core::medium::{Homogeneous, Region};
+use omnee_core::method::{Method, Setup};
 use omnee_core::phase::{Phase, PhaseFunction};
 use omnee_core::reference::PointToPoint;
-use omnee_core::sampling::{Connection, Directions, Sample};
+use omnee_core::sampling::{Connection, Directions, Draw, Sample};
 use omnee_core::{Real, Vector};
 
 /// Arithmetic precision of the techniques.
@@ -119,17 +120,16 @@ impl Problem {
 pub struct Sampler<'p, F: Real> {
     setup: Setup<F, &'p Phase<'p, F>>,
     connection: Connection<F>,
-    directions: Directions<F>,
-    tech: Tech,
+    method: Method,
     /// The integrand and its quadrature.
     pub problem: PointToPoint<F>,
 }
 
 impl<F: Real> Sampler<'_, F> {
-    /// One draw of the technique (three uniform numbers, six for `mis`).
+    /// One draw of the method (three uniform numbers, six for `mis`).
     pub fn draw(&self, rng: &mut Rng) -> Draw<F> {
         self.setup
-            .sample(self.tech, self.connection, self.directions, rng)
+            .draw(self.method, self.connection, || rng.uniform())
     }
 
     /// A vertex's contribution `f_c(x1) · weight`.
@@ -163,13 +163,17 @@ pub fn with_sampler<F: Real, T>(
         }
         None => Directions::Sphere,
     };
-    let setup = Setup::new(&phase, Region::Everywhere, F::from_f64(a.sigma_t))
-        .map_err(|e| core_error("--sigma-t", e))?;
+    let setup = Setup::new(
+        &phase,
+        directions,
+        Region::Everywhere,
+        F::from_f64(a.sigma_t),
+    )
+    .map_err(|e| core_error("--sigma-t", e))?;
     Ok(f(&Sampler {
         setup,
         connection,
-        directions,
-        tech: p.choice.tech,
+        method: p.choice.method,
         problem,
     }))
 }

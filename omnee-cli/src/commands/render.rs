@@ -203,9 +203,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
         match &choice.reason {
             Some(r) => say(&format!(
                 "technique: auto picked {}: {r}",
-                choice.tech.name()
+                choice.method.name()
             )),
-            None => say(&format!("technique: {}", choice.tech.name())),
+            None => say(&format!("technique: {}", choice.method.name())),
         }
     }
     for n in &notes {
@@ -214,7 +214,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
 
     let transport = Transport {
         once_more: OnceMore {
-            tech: choice.tech,
+            method: choice.method,
             theta_max: set.theta_max as f32,
         },
         roulette: (set.russian_roulette * scene.reference_radiance()) as f32,
@@ -283,7 +283,7 @@ fn summary_json(
     serde_json::json!({
         "width": set.width, "height": set.height, "crop": set.crop, "spp": out.spp,
         "seconds": out.seconds, "seed": set.seed, "terms": terms,
-        "technique": choice.tech.name(), "technique_requested": choice.requested.to_string(),
+        "technique": choice.method.name(), "technique_requested": choice.requested.to_string(),
         "auto_reason": choice.reason, "theta_max": set.theta_max, "exposure": ev,
         "skipped": notes,
         "stats": {

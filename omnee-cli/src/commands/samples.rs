@@ -115,11 +115,11 @@ fn rows<F: Real>(a: &ProblemArgs, p: &Problem, count: u64) -> Result<Vec<Row>> {
             for j in 0..n {
                 let draw = sampler.draw(&mut rng);
                 for (v, vertex) in draw.vertices.iter().enumerate() {
-                    if let Some(s) = vertex {
+                    if let (Some(s), Some(u)) = (vertex, draw.vertex_numbers(v)) {
                         rows.push(Row {
                             draw: k * CHUNK + j,
                             vertex: v,
-                            u: [0, 1, 2].map(|i| draw.u[3 * v + i].to_f64()),
+                            u: u.map(|x| x.to_f64()),
                             x1: x1_f64(s),
                             pdf: s.pdf.to_f64(),
                             weight: s.weight.to_f64(),

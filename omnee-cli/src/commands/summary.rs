@@ -8,7 +8,7 @@ use serde_json::{Value, json};
 /// `auto_reason`.
 pub fn choice_json(c: &Choice) -> (Value, Value, Value) {
     (
-        json!(c.tech.name()),
+        json!(c.method.name()),
         json!(c.requested.to_string()),
         json!(c.reason),
     )

@@ -31,9 +31,10 @@ pub use surfaces::{Floor, Plate};
 
 use crate::error::{CliError, Result};
 use crate::scene::Scene;
-use crate::technique::Setup;
 use glam::Vec3;
+use omnee_core::method::Setup;
 use omnee_core::phase::Phase;
+use omnee_core::sampling::Directions;
 
 /// What a camera ray hits first.
 #[derive(Clone, Copy, Debug)]
@@ -68,7 +69,9 @@ pub struct World<'a> {
     pub light: Light,
     /// The occluder.
     pub plate: Option<Plate>,
-    /// The once-more techniques' phase function, region and σt.
+    /// The once-more methods' phase function, region and σt, with rays
+    /// from the receiver in all directions (OMNEE's; the ray methods get
+    /// cosine-weighted ones per receiver).
     setup: Setup<f32, Phase<'a, f32>>,
 }
 
@@ -88,11 +91,12 @@ impl<'a> World<'a> {
             sigma_s: m.sigma_s as f32,
             sigma_t: m.sigma_t() as f32,
         };
-        let setup = Setup::new(phase, slab.region(), slab.sigma_t).map_err(|e| {
-            CliError::Input(format!(
-                "medium.sigma_s + medium.sigma_a in the renderer's f32: {e}"
-            ))
-        })?;
+        let setup =
+            Setup::new(phase, Directions::Sphere, slab.region(), slab.sigma_t).map_err(|e| {
+                CliError::Input(format!(
+                    "medium.sigma_s + medium.sigma_a in the renderer's f32: {e}"
+                ))
+            })?;
         let f = &scene.floor;
         Ok(World {
             slab,

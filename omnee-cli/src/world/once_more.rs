@@ -5,8 +5,9 @@
 use super::{Light, Roulette, World};
 use crate::rng::Rng;
 use crate::stats::Stats;
-use crate::technique::{OnceMore, Tech};
+use crate::technique::OnceMore;
 use glam::Vec3;
+use omnee_core::method::{Method, Setup};
 use omnee_core::sampling::{Connection, Directions, Sample};
 
 /// The light end of a once-more connection.
@@ -77,18 +78,23 @@ impl World<'_> {
         let Ok(connection) = Connection::new(light.x0, p, how.theta_max) else {
             return 0.0;
         };
-        // Ray techniques draw cosine-weighted directions about the normal.
-        let directions = if how.tech == Tech::Omnee {
-            Directions::Sphere
+        // Ray methods draw cosine-weighted directions about the normal.
+        let setup = if how.method == Method::Omnee {
+            self.setup
         } else {
-            match Directions::cosine(n) {
-                Ok(d) => d,
-                Err(_) => return 0.0,
-            }
+            let Ok(directions) = Directions::cosine(n) else {
+                return 0.0;
+            };
+            Setup::new(
+                *self.phase(),
+                directions,
+                self.slab.region(),
+                self.slab.sigma_t,
+            )
+            .expect("World::new checked this sigma_t")
         };
-        let [first, companion] = self
-            .setup
-            .sample(how.tech, connection, directions, rng)
+        let [first, companion] = setup
+            .draw(how.method, connection, || rng.uniform())
             .vertices;
         if first.is_none() {
             stats.no_vertex += 1;
