@@ -1,6 +1,7 @@
 //! The once-more technique as the CLI offers it: the core's
 //! [`Method`]s by name and `auto`, which picks one for the medium
-//! and says why. The draw itself is the core's ([`omnee_core::method::Setup`]).
+//! and says why (from the variances of docs/math.md §6). The draw itself is
+//! the core's ([`omnee_core::method::Setup`]).
 
 use clap::ValueEnum;
 use omnee_core::method::Method;

@@ -27,7 +27,7 @@ pub struct EstimateArgs {
     /// Number of samples.
     #[arg(long, default_value_t = 100_000)]
     pub samples: u64,
-    /// Also compute the quadrature reference (f64, MATH.md section 5).
+    /// Also compute the quadrature reference (f64, docs/math.md §5).
     #[arg(long)]
     pub reference: bool,
     /// Worker threads (0: one per core).

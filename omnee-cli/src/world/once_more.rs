@@ -1,13 +1,14 @@
 //! The `once-more` term, OMNEE's: light → `x1` in the slab → surface. A
 //! point `x0` on the light, then `x1` by the chosen technique for the
-//! connection `x0 → p`, each vertex weighted by its technique.
+//! connection `x0 → p`, each vertex weighted by its technique (OMNEE's
+//! weight `θ/(s sin θ)`, docs/math.md §3; `mis`, §10).
 
 use super::{Light, Roulette, World};
 use crate::rng::Rng;
 use crate::stats::Stats;
 use crate::technique::OnceMore;
 use glam::Vec3;
-use omnee_core::method::{Method, Setup};
+use omnee_core::method::Method;
 use omnee_core::sampling::{Connection, Directions, Sample};
 
 /// The light end of a once-more connection.
@@ -85,13 +86,7 @@ impl World<'_> {
             let Ok(directions) = Directions::cosine(n) else {
                 return 0.0;
             };
-            Setup::new(
-                *self.phase(),
-                directions,
-                self.slab.region(),
-                self.slab.sigma_t,
-            )
-            .expect("World::new checked this sigma_t")
+            self.setup.with_directions(directions)
         };
         let [first, companion] = setup
             .draw(how.method, connection, || rng.uniform())

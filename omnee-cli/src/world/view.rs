@@ -1,8 +1,9 @@
 //! The `view` term: light scattered once along a camera ray into the eye.
 //! The distance along the ray is sampled per angle θ under which the light
-//! sees it (`dt/d1² = dθ/D`): equiangular (Kulla & Fajardo 2012) in one-sample
-//! MIS with phase-function sampling of the same angle (`view_sample`); for
-//! a sphere also in MIS with choosing the light point first.
+//! sees it (`dt/d1² = dθ/D`): equiangular (Kulla & Fajardo 2012,
+//! docs/math.md §8) in one-sample MIS (§10) with phase-function sampling of
+//! the same angle (`view_sample`); for a sphere also in MIS with choosing
+//! the light point first.
 
 use super::{Roulette, World};
 use crate::rng::Rng;

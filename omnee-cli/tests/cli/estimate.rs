@@ -110,7 +110,7 @@ fn every_technique_estimates_the_quadrature_reference() {
 
 #[test]
 fn omnee_beats_equiangular_on_a_peaked_phase_function() {
-    // MATH.md §6: at g = 0.98 OMNEE's variance is orders of magnitude lower.
+    // docs/math.md §6: at g = 0.98 OMNEE's variance is orders of magnitude lower.
     let base = [
         "--x0",
         "0,0,0",
