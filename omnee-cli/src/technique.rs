@@ -1,7 +1,7 @@
-//! The once-more technique as the CLI offers it: the core's
-//! [`Method`]s by name and `auto`, which picks one for the medium
-//! and says why (from docs/math.md §3.4 and the variances of §6). The draw itself is
-//! the core's ([`omnee_core::method::Setup`]).
+//! The once-more technique as the CLI offers it: the core's [`Method`]s by
+//! name and `auto`, which picks one for the medium and says why (from
+//! docs/math.md §3.4 and the variances of §6). The draw itself is the
+//! core's ([`omnee_core::method::Setup`]).
 
 use clap::ValueEnum;
 use omnee_core::method::Method;
