@@ -19,4 +19,5 @@ pub mod render;
 pub mod rng;
 pub mod scene;
 pub mod technique;
+pub mod underwater;
 pub mod world;

@@ -1,0 +1,97 @@
+//! The underwater scene of the talk: the sun through a wavy water surface,
+//! caustics on the sand floor, blurred with depth by once-more scattered
+//! connections to a camera in the water (docs/math.md §13).
+//!
+//! All light reaching the floor under a wavy surface is caustic: the sun
+//! cannot be reached by next event estimation through a refracting surface,
+//! so light is traced from the sun ([`transport`]) and each floor point `x0`
+//! is connected to the eye directly (`caustics`), once more through a vertex
+//! `x1` in the water (`caustics-once-more`), and points on the refracted
+//! sun rays are connected to the eye (`shafts`).
+//!
+//! Modules, one per idea: [`surface`] (the waves and ray marching),
+//! [`optics`] (refraction and Fresnel), [`sun`], [`water`] (chromatic
+//! coefficients and distance sampling), [`floor`], [`camera`] (the pixel
+//! measurement and the importance derived from it), [`transport`] (the light
+//! paths and the three terms), [`render`] (the deterministic splatting loop)
+//! and [`scene`] (the scene file).
+
+pub mod camera;
+pub mod floor;
+pub mod optics;
+pub mod render;
+pub mod scene;
+pub mod sun;
+pub mod surface;
+pub mod transport;
+pub mod water;
+
+use crate::technique;
+use camera::Pinhole;
+use omnee_core::phase::{Phase, PhaseFunction};
+use scene::{TechniqueChoice, UnderwaterScene};
+use transport::{OnceMore, OnceMoreTech, World};
+
+/// The technique `auto` picks for the once-more term, with the reason: the
+/// CLI's rule ([`technique::auto`]) from the phase function's mean cosine
+/// and the optical thickness of the floor's depth in the clearest channel;
+/// its `mis` is this scene's mis.
+pub fn choose_technique(scene: &UnderwaterScene, g: f64) -> (OnceMoreTech, String) {
+    let depth = (scene.surface.z - scene.floor.z) as f64;
+    let tau = scene.water.sigma_t.min_element() as f64 * depth;
+    let (tech, reason) = technique::auto(g, tau);
+    let tech = match tech {
+        technique::Tech::Mis => OnceMoreTech::Mis,
+        _ => OnceMoreTech::Omnee,
+    };
+    (tech, reason)
+}
+
+impl<'a> World<'a> {
+    /// The scene at `width × height` with its phase function instantiated by
+    /// the caller, the terms to evaluate, and the once-more technique
+    /// (`auto` resolved).
+    pub fn new(scene: &UnderwaterScene, phase: Phase<'a, f32>, width: u32, height: u32) -> Self {
+        let c = &scene.camera;
+        let r = &scene.render;
+        let tech = match r.technique {
+            TechniqueChoice::Fixed(t) => t,
+            TechniqueChoice::Auto => choose_technique(scene, phase.mean_cosine() as f64).0,
+        };
+        let mut world = World {
+            sun: scene.sun,
+            surface: scene.surface.clone(),
+            ior: scene.ior,
+            water: scene.water,
+            phase,
+            floor: scene.floor,
+            camera: Pinhole::new(c.position, c.look_at, c.up, c.fov, width, height),
+            region: transport::LightRegion {
+                lo: glam::Vec2::ZERO,
+                hi: glam::Vec2::ONE,
+                offset: glam::Vec2::ZERO,
+                z_top: 0.0,
+                beam: glam::Vec3::NEG_Z,
+                aim: transport::Aim {
+                    camera: 0.0,
+                    eye: 0.0,
+                    eye_radius: 1.0,
+                },
+            },
+            max_distance: r.max_distance as f32,
+            terms: r.terms,
+            once_more: OnceMore {
+                tech,
+                theta_max: r.theta_max as f32,
+            },
+            shafts: r.shafts,
+        };
+        let aim = transport::Aim {
+            camera: r.camera_share as f32,
+            eye: r.eye_share as f32,
+            eye_radius: r.eye_radius as f32,
+        };
+        world.region = world.light_region(r.margin as f32, aim);
+        world
+    }
+}
