@@ -47,6 +47,26 @@ pub fn choose_technique(scene: &UnderwaterScene, g: f64) -> (OnceMoreTech, Strin
     (tech, reason)
 }
 
+/// What the scene does not need, as sentences for the render's report:
+/// the scattering terms without scattering, the surface marching for a
+/// flat surface. [`World::new`] skips them.
+pub fn skip_notes(scene: &UnderwaterScene) -> Vec<String> {
+    let mut notes = Vec::new();
+    let r = &scene.render.terms;
+    if !scene.water.scatters() && (r[1] || r[2]) {
+        notes.push(
+            "water.sigma_s = 0: caustics-once-more and shafts skipped (no scattering)".to_string(),
+        );
+    }
+    if scene.surface.is_flat() {
+        notes.push(
+            "flat surface: closed-form intersection, no marching and no wave-band visibility tests"
+                .to_string(),
+        );
+    }
+    notes
+}
+
 impl<'a> World<'a> {
     /// The scene at `width × height` with its phase function instantiated by
     /// the caller, the terms to evaluate, and the once-more technique
@@ -58,6 +78,11 @@ impl<'a> World<'a> {
             TechniqueChoice::Fixed(t) => t,
             TechniqueChoice::Auto => choose_technique(scene, phase.mean_cosine() as f64).0,
         };
+        let mut terms = r.terms;
+        if !scene.water.scatters() {
+            terms[1] = false;
+            terms[2] = false;
+        }
         let mut world = World {
             sun: scene.sun,
             surface: scene.surface.clone(),
@@ -79,12 +104,13 @@ impl<'a> World<'a> {
                 },
             },
             max_distance: r.max_distance as f32,
-            terms: r.terms,
+            terms,
             once_more: OnceMore {
                 tech,
                 theta_max: r.theta_max as f32,
             },
             shafts: r.shafts,
+            samples: [r.once_more_samples, r.shaft_samples],
         };
         let aim = transport::Aim {
             camera: r.camera_share as f32,

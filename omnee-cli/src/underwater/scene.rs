@@ -58,6 +58,10 @@ pub struct RenderSettings {
     pub theta_max: f64,
     /// How the shafts' vertex is placed.
     pub shafts: ShaftSampling,
+    /// Once-more draws per floor point.
+    pub once_more_samples: u32,
+    /// Shaft vertices per refracted sun ray.
+    pub shaft_samples: u32,
     /// Growth of the lit region around what the camera sees (m).
     pub margin: f64,
     /// Reach of the lit region and of camera-ray sampling from the eye (m).
@@ -501,6 +505,8 @@ fn parse_render(root: &toml::Table) -> Result<RenderSettings> {
             Range::open_closed(0.0, std::f64::consts::PI),
         )?,
         shafts,
+        once_more_samples: r.integer("once_more_samples", 4, 1, 1024)? as u32,
+        shaft_samples: r.integer("shaft_samples", 4, 1, 1024)? as u32,
         margin: r.number("margin", Some(1.0), Range::NON_NEGATIVE)?,
         max_distance: r.number("max_distance", Some(30.0), Range::POSITIVE)?,
         camera_share: r.number("camera_share", Some(0.65), Range::closed(0.0, 1.0))?,

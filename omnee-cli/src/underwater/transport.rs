@@ -233,6 +233,9 @@ pub struct World<'a> {
     pub once_more: OnceMore,
     /// The shafts' sampling.
     pub shafts: ShaftSampling,
+    /// Once-more draws per floor point and shaft vertices per refracted ray:
+    /// `[once-more, shafts]`, each contribution divided by its count.
+    pub samples: [u32; 2],
 }
 
 /// The deflection of the central sun ray after a flat surface, and the
@@ -419,7 +422,11 @@ impl World<'_> {
         }
         stats.floor_hits += 1;
         if self.terms[Term::Shafts as usize] {
-            self.shaft(y, dt, t_floor, power, rng, out, stats);
+            let k = self.samples[1];
+            let share = power / k as f32;
+            for _ in 0..k {
+                self.shaft(y, dt, t_floor, share, rng, out, stats);
+            }
         }
         // Flux arriving at x0 per channel, times the floor's BRDF: the
         // radiance leaving x0 in any direction, per unit area density.
@@ -430,7 +437,11 @@ impl World<'_> {
             self.caustic(x0, radiance, out, stats);
         }
         if self.terms[Term::CausticsOnceMore as usize] {
-            self.caustic_once_more(x0, radiance, rng, out, stats);
+            let k = self.samples[0];
+            let share = radiance / k as f32;
+            for _ in 0..k {
+                self.caustic_once_more(x0, share, rng, out, stats);
+            }
         }
     }
 
