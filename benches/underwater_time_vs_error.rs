@@ -10,6 +10,7 @@
 //!   passes each with different seeds (default 512); its own relMSE is
 //!   estimated from their difference (`relMSE(A, B)/4`) and reported;
 //! - `--budget S`: the equal CPU time for the crops figure (default 4 s);
+//! - `--skips`: also what skipping saves (a flat surface, σs = 0, one term);
 //! - `--render`: also the default render of the built-in scene at its
 //!   resolution and passes on 2 threads: wall time, and the images
 //!   `omnee-cli/docs/underwater.png` and `docs/figures/underwater-<term>.png`.
@@ -40,10 +41,13 @@ use omnee_cli::underwater::transport::{OnceMoreTech, Term, World};
 use std::fmt::Write as _;
 use std::time::Instant;
 
-const TECHS: [OnceMoreTech; 3] = [
-    OnceMoreTech::Omnee,
-    OnceMoreTech::Equiangular,
-    OnceMoreTech::Mis,
+/// The compared variants: a name, the technique, and mis's companion rate
+/// and cone edge.
+const TECHS: [(&str, OnceMoreTech, f32, f32); 4] = [
+    ("omnee", OnceMoreTech::Omnee, 0.0, 0.0),
+    ("equiangular", OnceMoreTech::Equiangular, 0.0, 0.0),
+    ("mis", OnceMoreTech::Mis, 0.05, 0.75 * std::f32::consts::PI),
+    ("mis (rate 1, all θ)", OnceMoreTech::Mis, 1.0, 0.0),
 ];
 
 /// Renders `world` for `spp` passes with `seed` on a pool of `threads`,
@@ -90,21 +94,83 @@ fn rel_mse(img: &[f64], reference: &[f64]) -> f64 {
         / lit.len() as f64
 }
 
-/// relMSE at `budget` seconds, log-log interpolated between the renders,
+/// `Σ(I − R)² / ΣR²`.
+fn n_mse(img: &[f64], reference: &[f64]) -> f64 {
+    let num: f64 = img
+        .iter()
+        .zip(reference)
+        .map(|(i, r)| (i - r).powi(2))
+        .sum();
+    num / reference.iter().map(|r| r * r).sum::<f64>()
+}
+
+/// One render of a technique: passes, CPU seconds, relMSE and nMSE.
+#[derive(Clone, Copy, Debug)]
+struct Point {
+    spp: u32,
+    cpu: f64,
+    rel: f64,
+    n: f64,
+}
+
+/// An error at `budget` seconds, log-log interpolated between the renders,
 /// with slope −1 beyond them.
-fn at_time(curve: &[(u32, f64, f64)], budget: f64) -> f64 {
-    let (first, last) = (curve[0], curve[curve.len() - 1]);
-    if budget <= first.1 {
-        return first.2 * first.1 / budget;
+fn at_time(curve: &[Point], budget: f64, error: fn(&Point) -> f64) -> f64 {
+    let pts: Vec<(f64, f64)> = curve.iter().map(|p| (p.cpu.max(0.01), error(p))).collect();
+    let (first, last) = (pts[0], pts[pts.len() - 1]);
+    if budget <= first.0 {
+        return first.1 * first.0 / budget;
     }
-    for w in curve.windows(2) {
-        let ((_, t0, r0), (_, t1, r1)) = (w[0], w[1]);
+    for w in pts.windows(2) {
+        let ((t0, r0), (t1, r1)) = (w[0], w[1]);
         if budget >= t0 && budget <= t1 && t1 > t0 {
             let f = (budget / t0).ln() / (t1 / t0).ln();
             return (r0.ln() + f * (r1 / r0).ln()).exp();
         }
     }
-    last.2 * last.1 / budget
+    last.1 * last.0 / budget
+}
+
+/// What skipping saves: the built-in scene at `w × h`, 8 passes on one
+/// thread, against the same with a flat surface (no marching, no wave-band
+/// tests) and with σs = 0 (no scattering terms), and with each term alone.
+fn skips(md: &mut String, w: u32, h: u32) {
+    let base = omnee_cli::underwater::scene::UNDERWATER_SCENE;
+    let flat = {
+        let cut = base.find("[[surface.waves]]").expect("waves");
+        let end = base.find("[water]").expect("water");
+        format!("{}{}", &base[..cut], &base[end..]).replace("kind = \"sine\"", "kind = \"flat\"")
+    };
+    let clear = base.replace("sigma_s = [0.25, 0.25, 0.25]", "sigma_s = 0.0");
+    let mut variants: Vec<(String, String)> = vec![
+        ("built-in scene, all terms".into(), base.to_string()),
+        ("flat surface".into(), flat),
+        ("water.sigma_s = 0 (scattering terms skipped)".into(), clear),
+    ];
+    for term in Term::ALL {
+        let only = base.replace(
+            "terms = [\"caustics\", \"caustics-once-more\", \"shafts\"]",
+            &format!("terms = [\"{}\"]", term.name()),
+        );
+        variants.push((format!("{} alone", term.name()), only));
+    }
+    let _ = writeln!(
+        md,
+        "## What skipping saves\n\n`cargo bench --bench underwater_time_vs_error -- --skips`: the built-in \
+         scene at {w}x{h}, 8 passes on one thread, CPU seconds:\n\n| variant | CPU s | relative |\n|---|---|---|"
+    );
+    let mut first = None;
+    for (label, text) in variants {
+        let scene = UnderwaterScene::parse(&text).expect("variant parses");
+        let mut storage = TableStorage::<f32>::default();
+        let phase = scene.phase.instantiate::<f32>(&mut storage).expect("phase");
+        let world = World::new(&scene, phase, w, h);
+        let (_, cpu) = timed(&world, 8, 3, 1);
+        let base_cpu = *first.get_or_insert(cpu);
+        println!("{label:<48} {cpu:>7.2} s CPU");
+        let _ = writeln!(md, "| {label} | {cpu:.2} | {} |", fmt3(cpu / base_cpu));
+    }
+    let _ = writeln!(md);
 }
 
 fn parse_resolution(s: &str) -> (u32, u32) {
@@ -122,11 +188,19 @@ fn main() {
     let phase = scene.phase.instantiate::<f32>(&mut storage).expect("phase");
     let mut md = String::new();
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| a != "--bench")
+        .collect();
     let _ = writeln!(
         md,
         "# The underwater scene: time against error\n\nMeasured by `cargo bench --bench underwater_time_vs_error{}` \
          on a 2-core machine shared with other jobs (load average at the start: {}).\n",
-        if flag("--render") { " -- --render" } else { "" },
+        if args.is_empty() {
+            String::new()
+        } else {
+            format!(" -- {}", args.join(" "))
+        },
         load.split_whitespace()
             .take(3)
             .collect::<Vec<_>>()
@@ -171,11 +245,19 @@ fn main() {
         );
     }
 
+    if flag("--skips") {
+        skips(&mut md, w, h);
+    }
+
     // The comparison: caustics-once-more only.
     scene.render.terms = [false, true, false];
     let phase = scene.phase.instantiate::<f32>(&mut storage).expect("phase");
     let mut world = World::new(&scene, phase, w, h);
-    world.once_more.tech = OnceMoreTech::Omnee;
+    // The reference: two-sample MIS of OMNEE and camera-ray equiangular over
+    // the whole range, the lowest-variance combination everywhere.
+    world.once_more.tech = OnceMoreTech::Mis;
+    world.once_more.mis_rate = 1.0;
+    world.once_more.mis_theta_min = 0.0;
     let (ref_a, ta) = timed(&world, reference_spp, 1001, 2);
     let (ref_b, tb) = timed(&world, reference_spp, 2002, 2);
     let name = Term::CausticsOnceMore.name();
@@ -184,28 +266,37 @@ fn main() {
         luminance(&ref_b.layers, name),
     );
     let reference: Vec<f64> = la.iter().zip(&lb).map(|(a, b)| 0.5 * (a + b)).collect();
-    let ref_noise = rel_mse(&la, &lb) / 4.0;
+    let (ref_rel, ref_n) = (rel_mse(&la, &lb) / 4.0, n_mse(&la, &lb) / 4.0);
     println!(
-        "reference: 2 x {reference_spp} passes of OMNEE in {:.0} s CPU, own relMSE {}",
+        "reference: 2 x {reference_spp} passes in {:.0} s CPU, own relMSE {}, nMSE {}",
         ta + tb,
-        fmt3(ref_noise)
+        fmt3(ref_rel),
+        fmt3(ref_n)
     );
-    let mut curves = Vec::new();
+    let mut curves: Vec<Vec<Point>> = Vec::new();
     let mut images: Vec<Option<Layers>> = Vec::new();
-    for tech in TECHS {
+    for (label, tech, rate, theta_min) in TECHS {
         world.once_more.tech = tech;
+        world.once_more.mis_rate = rate;
+        world.once_more.mis_theta_min = theta_min;
         let mut curve = Vec::new();
         let mut at_budget: Option<Layers> = None;
         for k in 0..=max_log2 {
             let spp = 1u32 << k;
             let (out, cpu) = timed(&world, spp, 7 + k as u64, 1);
-            let e = rel_mse(&luminance(&out.layers, name), &reference);
+            let lum = luminance(&out.layers, name);
+            let p = Point {
+                spp,
+                cpu,
+                rel: rel_mse(&lum, &reference),
+                n: n_mse(&lum, &reference),
+            };
             println!(
-                "{:<12} {spp:>5} passes {cpu:>8.2} s CPU relMSE {}",
-                tech.name(),
-                fmt3(e)
+                "{label:<20} {spp:>5} passes {cpu:>8.2} s CPU relMSE {} nMSE {}",
+                fmt3(p.rel),
+                fmt3(p.n)
             );
-            curve.push((spp, cpu, e));
+            curve.push(p);
             if cpu <= budget * 1.5 {
                 at_budget = Some(out.layers);
             }
@@ -213,62 +304,62 @@ fn main() {
         curves.push(curve);
         images.push(at_budget);
     }
-    let efficiency = |c: &[(u32, f64, f64)]| {
+    let efficiency = |c: &[Point], error: fn(&Point) -> f64| {
         let mut e: Vec<f64> = c
             .iter()
-            .filter(|p| p.0 >= 4)
-            .map(|p| 1.0 / (p.2 * p.1.max(0.01)))
+            .filter(|p| p.spp >= 4)
+            .map(|p| 1.0 / (error(p) * p.cpu.max(0.01)))
             .collect();
         if e.is_empty() {
             return f64::NAN;
         }
         median(&mut e)
     };
-    let base = efficiency(&curves[0]);
+    let (rel, n): (fn(&Point) -> f64, fn(&Point) -> f64) = (|p| p.rel, |p| p.n);
+    let (base_rel, base_n) = (efficiency(&curves[0], rel), efficiency(&curves[0], n));
     let _ = writeln!(
         md,
         "## Equal time: the once-more techniques on `caustics-once-more`\n\n\
-         The built-in scene at {w}x{h}, `caustics-once-more` only (Fournier–Forand phase function with \
-         Petzold's backscatter fraction, σs = 0.25 /m, floor 4 m down). Each technique renders 1, 2, …, \
-         {} passes on one thread; time is CPU time. Reference: two OMNEE renders of {reference_spp} passes \
-         (own relMSE {}). relMSE at equal CPU time, log-log interpolated between the renders:\n",
+         The built-in scene at {w}x{h}, `caustics-once-more` only (phase `{}`, σs = 0.25 /m, floor 4 m \
+         down, {} draws per floor point). Each technique renders 1, 2, …, {} passes on one thread; time is \
+         CPU time. Reference: two renders of {reference_spp} passes with two-sample MIS (OMNEE and \
+         camera-ray equiangular, both always, balance heuristic over the whole range); its own error from \
+         the difference of the two: relMSE {}, nMSE {}. Errors: relMSE = mean over pixels of \
+         (I − R)²/(R² + ε), ε = (0.01 mean R)², which the sparse dark water pixels dominate, and \
+         nMSE = Σ(I − R)²/ΣR², which the bright floor dominates; both at {budget} s CPU (log-log \
+         interpolated between the renders), and the efficiencies 1/(error · s), medians over the renders \
+         of ≥ 4 passes, relative to OMNEE's:\n",
+        scene.phase,
+        scene.render.once_more_samples,
         1u32 << max_log2,
-        fmt3(ref_noise)
+        fmt3(ref_rel),
+        fmt3(ref_n)
     );
-    let times = [1.0, 4.0, 16.0];
     let _ = writeln!(
         md,
-        "| technique | {} | efficiency 1/(relMSE·s) | relative to OMNEE |\n|---|{}---|---|",
-        times
-            .iter()
-            .map(|t| format!("relMSE at {t} s"))
-            .collect::<Vec<_>>()
-            .join(" | "),
-        "---|".repeat(times.len())
+        "| technique | relMSE at {budget} s | nMSE at {budget} s | efficiency (relMSE) | relative | \
+         efficiency (nMSE) | relative |\n|---|---|---|---|---|---|---|"
     );
-    for (tech, c) in TECHS.iter().zip(&curves) {
-        let eff = efficiency(c);
+    for ((label, ..), c) in TECHS.iter().zip(&curves) {
+        let (er, en) = (efficiency(c, rel), efficiency(c, n));
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} |",
-            tech.name(),
-            times
-                .iter()
-                .map(|&t| fmt3(at_time(c, t)))
-                .collect::<Vec<_>>()
-                .join(" | "),
-            fmt3(eff),
-            fmt3(eff / base)
+            "| {label} | {} | {} | {} | {} | {} | {} |",
+            fmt3(at_time(c, budget, rel)),
+            fmt3(at_time(c, budget, n)),
+            fmt3(er),
+            fmt3(er / base_rel),
+            fmt3(en),
+            fmt3(en / base_n)
         );
     }
-    let _ = writeln!(md, "\nEvery render (passes, CPU seconds, relMSE):\n");
-    for (tech, c) in TECHS.iter().zip(&curves) {
+    let _ = writeln!(md, "\nEvery render (passes: CPU seconds, relMSE, nMSE):\n");
+    for ((label, ..), c) in TECHS.iter().zip(&curves) {
         let _ = writeln!(
             md,
-            "- {}: {}",
-            tech.name(),
+            "- {label}: {}",
             c.iter()
-                .map(|(s, t, e)| format!("{s}: {t:.2} s, {}", fmt3(*e)))
+                .map(|p| format!("{}: {:.2} s, {}, {}", p.spp, p.cpu, fmt3(p.rel), fmt3(p.n)))
                 .collect::<Vec<_>>()
                 .join("; ")
         );
@@ -292,7 +383,7 @@ fn main() {
     panels.push(a.iter().zip(b).map(|(x, y)| 0.5 * (x + y)).collect());
     let gap = 4usize;
     let (pw, ph) = (w as usize, h as usize);
-    let total_w = 4 * pw + 3 * gap;
+    let total_w = panels.len() * pw + (panels.len() - 1) * gap;
     let mut canvas = vec![255u8; total_w * ph * 3];
     for (k, panel) in panels.iter().enumerate() {
         let (srgb, _) = tone_map(panel, Some(ev));
@@ -308,9 +399,9 @@ fn main() {
     write_png(&fig, total_w, ph, &canvas).expect("png");
     let _ = writeln!(
         md,
-        "\n`docs/figures/underwater-equal-time.png`: from left to right omnee, equiangular, mis at about \
-         {budget} s CPU each (the largest power-of-two pass count within 1.5× of it), and the reference; \
-         one exposure for all.\n"
+        "\n`docs/figures/underwater-equal-time.png`: from left to right {} at about {budget} s CPU each \
+         (the largest power-of-two pass count within 1.5× of it), and the reference; one exposure for all.\n",
+        TECHS.iter().map(|t| t.0).collect::<Vec<_>>().join(", ")
     );
     let out = docs_path("results/underwater.md");
     std::fs::write(&out, md).expect("write results");

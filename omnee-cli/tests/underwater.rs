@@ -391,3 +391,58 @@ fn splatting_is_deterministic_for_any_thread_count_and_crops_sum_to_the_image() 
         );
     }
 }
+
+#[test]
+fn bad_scene_input_names_the_field_and_its_range() {
+    use omnee_cli::underwater::scene::UNDERWATER_SCENE;
+    let gerstner = UNDERWATER_SCENE
+        .replacen("kind = \"sine\"", "kind = \"gerstner\"", 1)
+        .replacen("amplitude = 0.04 ", "amplitude = 0.3 ", 1);
+    let e = UnderwaterScene::parse(&gerstner).unwrap_err().to_string();
+    assert!(
+        e.contains("surface.waves") && e.contains("fold") && e.contains("below 1"),
+        "{e}"
+    );
+    // The same waves as sines are a valid (steep) surface.
+    let sine = gerstner.replacen("kind = \"gerstner\"", "kind = \"sine\"", 1);
+    assert!(UnderwaterScene::parse(&sine).is_ok());
+    let cases: [(&str, &str, &[&str]); 6] = [
+        (
+            "irradiance = 1000.0",
+            "irradiance = -5.0",
+            &["sun.irradiance = -5", "[0, inf)"],
+        ),
+        ("ior = 1.33", "ior = 0.9", &["surface.ior = 0.9", "[1, 3]"]),
+        (
+            "sigma_s = [0.25, 0.25, 0.25]",
+            "sigma_s = [0.25, 0.25]",
+            &["water.sigma_s = [0.25, 0.25]", "array of 3 numbers"],
+        ),
+        (
+            "albedo_a = [0.75, 0.68, 0.50]",
+            "albedo_a = [0.75, 0.68, 0.50, 0.1]",
+            &["floor.albedo_a", "array of 3 numbers", "[0, 1]"],
+        ),
+        ("z = -4.0", "z = 0.5", &["floor.z = 0.5", "(-inf, -0.08"]),
+        (
+            "technique = \"mis\"",
+            "technique = \"distance\"",
+            &["render.technique", "omnee, equiangular, mis, auto"],
+        ),
+    ];
+    for (from, to, wants) in cases {
+        assert!(
+            UNDERWATER_SCENE.contains(from),
+            "the built-in scene has {from}"
+        );
+        let text = UNDERWATER_SCENE.replacen(from, to, 1);
+        let e = UnderwaterScene::parse(&text).unwrap_err().to_string();
+        for want in wants {
+            assert!(e.contains(want), "{to}: {e}");
+        }
+    }
+    // A scalar is accepted for an RGB coefficient.
+    let text = UNDERWATER_SCENE.replacen("sigma_s = [0.25, 0.25, 0.25]", "sigma_s = 0.25", 1);
+    let scene = UnderwaterScene::parse(&text).unwrap();
+    assert_eq!(scene.water.sigma_s, Vec3::splat(0.25));
+}

@@ -108,6 +108,8 @@ impl<'a> World<'a> {
             once_more: OnceMore {
                 tech,
                 theta_max: r.theta_max as f32,
+                mis_rate: r.mis_rate as f32,
+                mis_theta_min: r.mis_theta_min as f32,
             },
             shafts: r.shafts,
             samples: [r.once_more_samples, r.shaft_samples],

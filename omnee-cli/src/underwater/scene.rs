@@ -56,6 +56,10 @@ pub struct RenderSettings {
     pub technique: TechniqueChoice,
     /// The once-more integrand's restriction θ < θmax (radians).
     pub theta_max: f64,
+    /// The mis companion's rate.
+    pub mis_rate: f64,
+    /// The mis companion's cone edge θmin (radians).
+    pub mis_theta_min: f64,
     /// How the shafts' vertex is placed.
     pub shafts: ShaftSampling,
     /// Once-more draws per floor point.
@@ -503,6 +507,12 @@ fn parse_render(root: &toml::Table) -> Result<RenderSettings> {
             "theta_max",
             Some(std::f64::consts::PI),
             Range::open_closed(0.0, std::f64::consts::PI),
+        )?,
+        mis_rate: r.number("mis_rate", Some(0.05), Range::closed(0.0, 1.0))?,
+        mis_theta_min: r.number(
+            "mis_theta_min",
+            Some(0.75 * std::f64::consts::PI),
+            Range::closed(0.0, std::f64::consts::PI),
         )?,
         shafts,
         once_more_samples: r.integer("once_more_samples", 4, 1, 1024)? as u32,

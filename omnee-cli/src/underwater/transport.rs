@@ -182,8 +182,9 @@ pub enum OnceMoreTech {
     Omnee,
     /// Equiangular from a camera ray through a uniform image point.
     Equiangular,
-    /// OMNEE, and with probability 0.05 a camera-ray equiangular vertex
-    /// behind θ = 3π/4 ([`OmneeMis::recommended`]).
+    /// OMNEE's vertex, and with probability `rate` a camera-ray equiangular
+    /// vertex kept behind θ ≥ θmin, balance heuristic there ([`OmneeMis`];
+    /// the scene's defaults are [`OmneeMis::recommended`]'s 0.05 and 3π/4).
     Mis,
 }
 
@@ -205,6 +206,10 @@ pub struct OnceMore {
     pub tech: OnceMoreTech,
     /// The integrand's restriction θ < θmax.
     pub theta_max: f32,
+    /// The mis companion's rate `c ∈ [0, 1]`.
+    pub mis_rate: f32,
+    /// The mis companion's cone edge θmin.
+    pub mis_theta_min: f32,
 }
 
 /// The underwater scene in f32, ready to trace.
@@ -536,7 +541,12 @@ impl World<'_> {
             OnceMoreTech::Mis => {
                 let [a, b, c] = rng.uniform3();
                 let [d, e, f] = rng.uniform3();
-                OmneeMis::recommended(omnee, &camera_rays).sample([a, b, c, d, e, f])
+                let theta_min = Deflection::from_theta(self.once_more.mis_theta_min);
+                match OmneeMis::new(omnee, &camera_rays, self.once_more.mis_rate, theta_min) {
+                    Ok(mis) => mis.sample([a, b, c, d, e, f]),
+                    // The scene parser keeps the rate in [0, 1].
+                    Err(_) => [omnee.sample([a, b, c]), None],
+                }
             }
         }
     }
