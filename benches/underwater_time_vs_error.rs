@@ -137,8 +137,8 @@ fn at_time(curve: &[Point], budget: f64, error: fn(&Point) -> f64) -> f64 {
 fn skips(md: &mut String, w: u32, h: u32) {
     let base = omnee_cli::underwater::scene::UNDERWATER_SCENE;
     let flat = {
-        let cut = base.find("[[surface.waves]]").expect("waves");
-        let end = base.find("[water]").expect("water");
+        let cut = base.find("\n[[surface.waves]]").expect("waves");
+        let end = base.find("\n[water]").expect("water");
         format!("{}{}", &base[..cut], &base[end..]).replace("kind = \"sine\"", "kind = \"flat\"")
     };
     let clear = base.replace("sigma_s = [0.25, 0.25, 0.25]", "sigma_s = 0.0");

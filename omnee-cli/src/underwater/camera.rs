@@ -195,11 +195,9 @@ mod tests {
                         (e.cos() * a.cos()) as f32,
                         e.sin() as f32,
                     );
-                    if let Some(p) = c.project(c.eye + d) {
-                        if p.pixel == pixel {
-                            let dw = e.cos() * (a1 - a0) * (e1 - e0) / (n * n) as f64;
-                            total += p.importance as f64 * dw;
-                        }
+                    if let Some(p) = c.project(c.eye + d).filter(|p| p.pixel == pixel) {
+                        let dw = e.cos() * (a1 - a0) * (e1 - e0) / (n * n) as f64;
+                        total += p.importance as f64 * dw;
                     }
                 }
             }

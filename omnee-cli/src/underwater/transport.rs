@@ -327,7 +327,7 @@ impl World<'_> {
         self.surface.segment_under(a, b)
     }
 
-    /// The density in floor area of [`Self::start`]'s `x_f`: on the
+    /// The density in floor area of the floor point `x_f` a light path aims at: on the
     /// rectangle `R`, `c q_cam(x_f) + e q_eye(x_f) + (1 − c − e)/|R|`, with
     /// `q_cam = cos θ0 / (d² · 4wh · cos³θ)` the density of the floor point
     /// hit by a uniform image point (`dω = cos θ0 dA/d²`, `dω = cos³θ dA_image`)
@@ -594,7 +594,7 @@ impl World<'_> {
         let v = eye - x;
         let d2 = v.length_squared();
         let d = d2.sqrt();
-        if !(d > 0.0 && pdf > 0.0) || !self.clear(x, eye, stats) {
+        if !(d > 0.0 && pdf > 0.0 && self.clear(x, eye, stats)) {
             return;
         }
         let phase = self.phase.eval(Deflection::between_segments(dt, 1.0, v, d));
