@@ -113,9 +113,12 @@ struct Point {
     n: f64,
 }
 
+/// Which error of a [`Point`].
+type Error = fn(&Point) -> f64;
+
 /// An error at `budget` seconds, log-log interpolated between the renders,
 /// with slope −1 beyond them.
-fn at_time(curve: &[Point], budget: f64, error: fn(&Point) -> f64) -> f64 {
+fn at_time(curve: &[Point], budget: f64, error: Error) -> f64 {
     let pts: Vec<(f64, f64)> = curve.iter().map(|p| (p.cpu.max(0.01), error(p))).collect();
     let (first, last) = (pts[0], pts[pts.len() - 1]);
     if budget <= first.0 {
@@ -304,7 +307,7 @@ fn main() {
         curves.push(curve);
         images.push(at_budget);
     }
-    let efficiency = |c: &[Point], error: fn(&Point) -> f64| {
+    let efficiency = |c: &[Point], error: Error| {
         let mut e: Vec<f64> = c
             .iter()
             .filter(|p| p.spp >= 4)
@@ -315,7 +318,8 @@ fn main() {
         }
         median(&mut e)
     };
-    let (rel, n): (fn(&Point) -> f64, fn(&Point) -> f64) = (|p| p.rel, |p| p.n);
+    let rel: Error = |p| p.rel;
+    let n: Error = |p| p.n;
     let (base_rel, base_n) = (efficiency(&curves[0], rel), efficiency(&curves[0], n));
     let _ = writeln!(
         md,
