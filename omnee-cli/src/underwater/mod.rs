@@ -123,3 +123,28 @@ impl<'a> World<'a> {
         world
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clear_water_skips_the_scattering_terms_and_says_so() {
+        let text =
+            scene::UNDERWATER_SCENE.replacen("sigma_s = [0.25, 0.25, 0.25]", "sigma_s = 0", 1);
+        let s = UnderwaterScene::parse(&text).unwrap();
+        let notes = skip_notes(&s);
+        assert!(notes.iter().any(|n| n.contains("sigma_s = 0")), "{notes:?}");
+        let mut storage = crate::phase::TableStorage::<f32>::default();
+        let w = World::new(&s, s.phase.instantiate(&mut storage).unwrap(), 16, 12);
+        assert_eq!(w.terms, [true, false, false]);
+    }
+
+    #[test]
+    fn auto_picks_omnee_for_the_forward_peaked_water() {
+        let s = UnderwaterScene::builtin();
+        let (tech, reason) = choose_technique(&s, 0.9);
+        assert_eq!(tech, OnceMoreTech::Omnee);
+        assert!(reason.contains("forward-peaked"), "{reason}");
+    }
+}

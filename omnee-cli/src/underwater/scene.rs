@@ -568,3 +568,92 @@ pub fn parse_terms(field: &str, v: &toml::Value, names: &[&str]) -> Result<[bool
     }
     Ok(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every field the parser reads, by section.
+    const FIELDS: [(&str, &[&str]); 7] = [
+        ("sun", &["direction", "irradiance", "angular_radius_deg"]),
+        ("surface", &["z", "ior", "kind", "seed"]),
+        (
+            "surface.waves",
+            &["amplitude", "wavelength", "direction_deg", "phase_deg"],
+        ),
+        ("water", &["sigma_s", "sigma_a", "phase"]),
+        ("floor", &["z", "pattern", "size", "albedo_a", "albedo_b"]),
+        (
+            "camera",
+            &["position", "look_at", "up", "fov", "width", "height"],
+        ),
+        (
+            "render",
+            &[
+                "spp",
+                "seed",
+                "terms",
+                "technique",
+                "theta_max",
+                "mis_rate",
+                "mis_theta_min",
+                "shafts",
+                "once_more_samples",
+                "shaft_samples",
+                "margin",
+                "max_distance",
+                "camera_share",
+                "eye_share",
+                "eye_radius",
+                "exposure",
+            ],
+        ),
+    ];
+
+    #[test]
+    fn the_builtin_scene_documents_every_field_with_default_and_range() {
+        for (section, keys) in FIELDS {
+            for key in keys {
+                // The field's line and the comment lines continuing it.
+                let lines: Vec<&str> = UNDERWATER_SCENE.lines().collect();
+                let at = lines
+                    .iter()
+                    .position(|l| l.trim_start_matches("# ").starts_with(&format!("{key} =")))
+                    .unwrap_or_else(|| panic!("{section}.{key} is not in the built-in scene"));
+                let line =
+                    std::iter::once(lines[at])
+                        .chain(lines[at + 1..].iter().copied().take_while(|l| {
+                            l.starts_with("    ") && l.trim_start().starts_with('#')
+                        }))
+                        .collect::<Vec<_>>()
+                        .join(" ");
+                assert!(
+                    line.contains("default") || line.contains("required"),
+                    "{section}.{key}: {line}"
+                );
+            }
+        }
+        // And the parser knows no other field: an unknown one is refused
+        // with the list of the known ones.
+        let text = UNDERWATER_SCENE.replacen("[sun]\n", "[sun]\nwobble = 1\n", 1);
+        let e = UnderwaterScene::parse(&text).unwrap_err().to_string();
+        assert!(
+            e.contains("sun.wobble") && e.contains("angular_radius_deg, direction, irradiance"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn the_builtin_scene_parses_with_its_documented_values() {
+        let s = UnderwaterScene::builtin();
+        assert_eq!(s.ior, 1.33);
+        assert!(!s.surface.is_flat());
+        assert_eq!(s.floor.z, -4.0);
+        assert_eq!(s.render.terms, [true; 3]);
+        assert_eq!(
+            s.render.technique,
+            TechniqueChoice::Fixed(OnceMoreTech::Mis)
+        );
+        assert!((s.sun.angular_radius - 0.27f32.to_radians()).abs() < 1e-9);
+    }
+}
