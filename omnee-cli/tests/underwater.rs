@@ -30,6 +30,17 @@ use omnee_core::sampling::Connection;
 
 /// A flat-water scene: small image, camera looking down across the floor.
 fn flat_scene(sun: &str, radius_deg: f64, terms: &str, aim: &str) -> UnderwaterScene {
+    flat_scene_looking_at(sun, radius_deg, terms, aim, "[0.0, 2.0, -4.0]")
+}
+
+/// [`flat_scene`] with the camera looking at `look_at`.
+fn flat_scene_looking_at(
+    sun: &str,
+    radius_deg: f64,
+    terms: &str,
+    aim: &str,
+    look_at: &str,
+) -> UnderwaterScene {
     UnderwaterScene::parse(&format!(
         r#"
 [sun]
@@ -51,7 +62,7 @@ albedo_a = [0.7, 0.5, 0.3]
 albedo_b = [0.7, 0.5, 0.3]
 [camera]
 position = [0.0, -1.0, -1.5]
-look_at = [0.0, 2.0, -4.0]
+look_at = {look_at}
 up = [0.0, 0.0, 1.0]
 fov = 50.0
 width = 8
@@ -142,10 +153,19 @@ fn beam(world: &World<'_>) -> (f64, DVec3, f64) {
 
 /// Checks every pixel and channel: |mean − want| < 5.3 se + 2e-4 want, and
 /// that the standard errors are below `max_rel_se` of the values.
+/// Pixels with no light (above the horizon) must be 0; pixels the gather
+/// marks NaN (partly beyond the lit region) are not compared.
 fn compare(name: &str, mean: &[DVec3], se: &[DVec3], want: &[DVec3], max_rel_se: f64) {
     for (p, ((m, s), w)) in mean.iter().zip(se).zip(want).enumerate() {
         for c in 0..3 {
             let (m, s, w) = (m[c], s[c], w[c]);
+            if w.is_nan() {
+                continue;
+            }
+            if w == 0.0 {
+                assert_eq!(m, 0.0, "{name}: pixel {p} channel {c} sees no light");
+                continue;
+            }
             assert!(
                 (m - w).abs() < 5.3 * s + 2e-4 * w.abs(),
                 "{name}: pixel {p} channel {c}: splat {m} ± {s}, gather {w}"
@@ -167,9 +187,16 @@ fn compare(name: &str, mean: &[DVec3], se: &[DVec3], want: &[DVec3], max_rel_se:
 
 #[test]
 fn caustics_splat_equals_the_analytic_floor_radiance_for_two_sun_elevations() {
-    // Sun at 70° (delta) and at 35° (the real sun's disc).
-    for (sun, radius) in [("[0.2, 0.3, 0.99]", 0.0), ("[0.5, 1.1, 0.85]", 0.27)] {
-        let scene = flat_scene(sun, radius, r#"["caustics"]"#, "");
+    // Sun at 70° (delta) and at 35° (the real sun's disc), the camera
+    // looking down at the floor; and looking level, so that the top half of
+    // the image sees no floor and paths aimed through the image use the
+    // lower half's cells only.
+    for (sun, radius, look_at) in [
+        ("[0.2, 0.3, 0.99]", 0.0, "[0.0, 2.0, -4.0]"),
+        ("[0.5, 1.1, 0.85]", 0.27, "[0.0, 2.0, -4.0]"),
+        ("[0.5, 1.1, 0.85]", 0.0, "[0.0, 2.0, -1.6]"),
+    ] {
+        let scene = flat_scene_looking_at(sun, radius, r#"["caustics"]"#, "", look_at);
         let mut storage = TableStorage::<f32>::default();
         let phase = scene.phase.instantiate(&mut storage).unwrap();
         let world = World::new(&scene, phase, 8, 6);
@@ -185,12 +212,31 @@ fn caustics_splat_equals_the_analytic_floor_radiance_for_two_sun_elevations() {
             .map(|p| {
                 pixel_average(&world, p, |d| {
                     let d = d.as_dvec3();
+                    if d.z >= 0.0 {
+                        return DVec3::ZERO; // above the horizon: no floor
+                    }
                     let t = (world.floor.z as f64 - eye.z) / d.z;
+                    // The sun lights the floor under the lit region only
+                    // (through flat water and from a small sun, x0 = x_f):
+                    // a pixel reaching past it is not compared.
+                    let x = eye + d * t;
+                    if !world
+                        .region
+                        .contains(glam::Vec2::new(x.x as f32, x.y as f32))
+                    {
+                        return DVec3::NAN;
+                    }
                     exp3(-sigma_t * (depth / cos_t + t)) * albedo * (e_in / std::f64::consts::PI)
                 })
             })
             .collect();
-        compare(&format!("sun {sun}"), &mean, &se, &want, 0.012);
+        compare(
+            &format!("sun {sun}, looking at {look_at}"),
+            &mean,
+            &se,
+            &want,
+            0.012,
+        );
     }
 }
 

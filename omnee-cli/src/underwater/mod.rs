@@ -83,6 +83,7 @@ impl<'a> World<'a> {
             terms[1] = false;
             terms[2] = false;
         }
+        let camera = Pinhole::new(c.position, c.look_at, c.up, c.fov, width, height);
         let mut world = World {
             sun: scene.sun,
             surface: scene.surface.clone(),
@@ -90,7 +91,7 @@ impl<'a> World<'a> {
             water: scene.water,
             phase,
             floor: scene.floor,
-            camera: Pinhole::new(c.position, c.look_at, c.up, c.fov, width, height),
+            camera,
             region: transport::LightRegion {
                 lo: glam::Vec2::ZERO,
                 hi: glam::Vec2::ONE,
@@ -102,6 +103,7 @@ impl<'a> World<'a> {
                     eye: 0.0,
                     eye_radius: 1.0,
                 },
+                cells: transport::FloorCells::new(&camera),
             },
             max_distance: r.max_distance as f32,
             terms,

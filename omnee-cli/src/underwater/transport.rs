@@ -128,7 +128,8 @@ impl Stats {
 }
 
 /// How light paths choose their floor point `x_f` (13.4 of docs/math.md):
-/// with probability `camera` through a uniform point of the image, with
+/// with probability `camera` through a uniform point of the image's cells
+/// that see the floor ([`FloorCells`]), with
 /// probability `eye` on a beam passing the eye at a distance uniform in
 /// `[0, eye_radius]`, else uniformly on the region.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -141,12 +142,97 @@ pub struct Aim {
     pub eye_radius: f32,
 }
 
+/// The cells of a 32 × 24 grid over the image through which the camera sees
+/// the floor: those with a corner ray going down. The height of a ray
+/// direction is linear on the image plane, so a cell whose four corners look
+/// up has no ray that looks down: the cells hold every floor point in view.
+/// Paths aimed through the image draw a uniform point of these cells, and
+/// none is wasted on the water above the horizon.
+#[derive(Clone, Debug)]
+pub struct FloorCells {
+    /// Indices `row · COLUMNS + column` of the cells that see the floor.
+    cells: Vec<u32>,
+    /// Per cell, whether it sees the floor.
+    sees: Vec<bool>,
+    width: f32,
+    height: f32,
+}
+
+impl FloorCells {
+    const COLUMNS: u32 = 32;
+    const ROWS: u32 = 24;
+
+    /// The cells of `camera`'s image that see down.
+    pub fn new(camera: &Pinhole) -> Self {
+        let (w, h) = (camera.width as f32, camera.height as f32);
+        let mut sees = Vec::new();
+        let mut cells = Vec::new();
+        for row in 0..Self::ROWS {
+            for column in 0..Self::COLUMNS {
+                let corner = |i: u32, j: u32| {
+                    camera
+                        .ray(
+                            w * i as f32 / Self::COLUMNS as f32,
+                            h * j as f32 / Self::ROWS as f32,
+                        )
+                        .z
+                        < 0.0
+                };
+                let down = corner(column, row)
+                    || corner(column + 1, row)
+                    || corner(column, row + 1)
+                    || corner(column + 1, row + 1);
+                if down {
+                    cells.push(row * Self::COLUMNS + column);
+                }
+                sees.push(down);
+            }
+        }
+        Self {
+            cells,
+            sees,
+            width: w,
+            height: h,
+        }
+    }
+
+    /// The share of the image the cells cover.
+    pub fn fraction(&self) -> f32 {
+        self.cells.len() as f32 / (Self::COLUMNS * Self::ROWS) as f32
+    }
+
+    /// A uniform image point (pixels) in the cells: `u0` picks the cell and
+    /// the column inside it, `u1` the row.
+    fn sample(&self, u: [f32; 2]) -> Option<(f32, f32)> {
+        let n = self.cells.len();
+        if n == 0 {
+            return None;
+        }
+        let scaled = u[0] * n as f32;
+        let k = (scaled as usize).min(n - 1);
+        let fx = (scaled - k as f32).clamp(0.0, 1.0);
+        let cell = self.cells[k];
+        let (column, row) = ((cell % Self::COLUMNS) as f32, (cell / Self::COLUMNS) as f32);
+        Some((
+            (column + fx) / Self::COLUMNS as f32 * self.width,
+            (row + u[1]) / Self::ROWS as f32 * self.height,
+        ))
+    }
+
+    /// Whether the image point `(x, y)` (pixels, inside the image) is in a cell.
+    fn contains(&self, x: f32, y: f32) -> bool {
+        let column = ((x / self.width * Self::COLUMNS as f32) as u32).min(Self::COLUMNS - 1);
+        let row = ((y / self.height * Self::ROWS as f32) as u32).min(Self::ROWS - 1);
+        self.sees[(row * Self::COLUMNS + column) as usize]
+    }
+}
+
 /// The region of the floor whose flat-water sun rays light the light paths:
 /// `x_f ∈ [lo, hi]`, the point a sun ray would reach on the floor through a
 /// flat surface. A path starts at `x_s = x_f − offset` on the plane
 /// `z_top` above every crest; the offset is the flat-water displacement of
 /// the sun's central direction, so `x_s` and `x_f` have the same density.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct LightRegion {
     /// Lower corner of the rectangle on the floor.
     pub lo: Vec2,
@@ -160,6 +246,8 @@ pub struct LightRegion {
     pub beam: Vec3,
     /// How `x_f` is drawn.
     pub aim: Aim,
+    /// The image cells that see the floor, for the paths aimed through the image.
+    pub cells: FloorCells,
 }
 
 impl LightRegion {
@@ -294,6 +382,7 @@ impl World<'_> {
             z_top,
             beam: dt,
             aim,
+            cells: FloorCells::new(&self.camera),
         }
     }
 
@@ -329,8 +418,9 @@ impl World<'_> {
 
     /// The density in floor area of the floor point `x_f` a light path aims at: on the
     /// rectangle `R`, `c q_cam(x_f) + e q_eye(x_f) + (1 − c − e)/|R|`, with
-    /// `q_cam = cos θ0 / (d² · 4wh · cos³θ)` the density of the floor point
-    /// hit by a uniform image point (`dω = cos θ0 dA/d²`, `dω = cos³θ dA_image`)
+    /// `q_cam = cos θ0 / (d² · f 4wh · cos³θ)` the density of the floor point
+    /// hit by a uniform image point of the cells that see the floor, a share
+    /// `f` of the image (`dω = cos θ0 dA/d²`, `dω = cos³θ dA_image`)
     /// and `q_eye = cos θt / (2π ρ D)` for the beam through `x_f` passing the
     /// eye at the distance `D < ρ` (uniform in `D` and in angle about the eye
     /// in the plane across the beam, whose area is `cos θt` times the floor's).
@@ -342,13 +432,18 @@ impl World<'_> {
         let uniform = (1.0 - r.aim.camera - r.aim.eye) / r.area();
         let c = &self.camera;
         let v = c.eye - xf;
+        // The image points that see the floor cover `fraction · 4wh` of the plane.
         let cam = match c.image_point(-v) {
             Some((x, y, cos))
-                if x >= 0.0 && y >= 0.0 && x < c.width as f32 && y < c.height as f32 =>
+                if x >= 0.0
+                    && y >= 0.0
+                    && x < c.width as f32
+                    && y < c.height as f32
+                    && r.cells.contains(x, y) =>
             {
                 let d2 = v.length_squared();
                 let cos0 = v.z / d2.sqrt();
-                cos0 / (d2 * c.image_area() * cos * cos * cos)
+                cos0 / (d2 * c.image_area() * r.cells.fraction() * cos * cos * cos)
             }
             _ => 0.0,
         };
@@ -367,7 +462,8 @@ impl World<'_> {
         let r = &self.region;
         let c = &self.camera;
         let xf = if u[0] < r.aim.camera {
-            let d = c.ray(u[1] * c.width as f32, u[2] * c.height as f32);
+            let (x, y) = r.cells.sample([u[1], u[2]])?;
+            let d = c.ray(x, y);
             if !(d.z < 0.0) {
                 return None;
             }
