@@ -1,7 +1,8 @@
 //! The underwater scene against gathering and quadrature (issue 11):
 //!
 //! - with a flat surface, the light-traced `caustics` layer equals the
-//!   analytic floor radiance seen through each pixel, for two sun elevations;
+//!   analytic floor radiance seen through each pixel, for two sun elevations
+//!   and a camera that sees the horizon;
 //! - the `shafts` layer equals a quadrature of single scattering of the
 //!   refracted sun beam along the camera rays, for each way of sampling it;
 //! - the once-more splat from one known floor point, summed over the image
