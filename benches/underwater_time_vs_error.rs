@@ -34,7 +34,7 @@ use common::{arg, docs_path, flag, fmt3, median};
 use cpu_time::ProcessTime;
 use omnee_cli::image::{Layers, tone_map, write_png};
 use omnee_cli::phase::TableStorage;
-use omnee_cli::render::Budget;
+use omnee_cli::render::budget::Budget;
 use omnee_cli::underwater::render::{Options, Rendered, render};
 use omnee_cli::underwater::scene::UnderwaterScene;
 use omnee_cli::underwater::transport::{OnceMoreTech, Term, World};

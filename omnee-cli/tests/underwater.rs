@@ -19,7 +19,7 @@
 
 use glam::{DVec3, Vec3};
 use omnee_cli::phase::TableStorage;
-use omnee_cli::render::Budget;
+use omnee_cli::render::budget::Budget;
 use omnee_cli::rng::Rng;
 use omnee_cli::underwater::render::{Options, render};
 use omnee_cli::underwater::scene::UnderwaterScene;

@@ -41,7 +41,7 @@ pub fn choose_technique(scene: &UnderwaterScene, g: f64) -> (OnceMoreTech, Strin
     let tau = scene.water.sigma_t.min_element() as f64 * depth;
     let (tech, reason) = technique::auto(g, tau);
     let tech = match tech {
-        technique::Tech::Mis => OnceMoreTech::Mis,
+        omnee_core::method::Method::Mis => OnceMoreTech::Mis,
         _ => OnceMoreTech::Omnee,
     };
     (tech, reason)

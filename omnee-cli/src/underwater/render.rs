@@ -4,8 +4,8 @@
 
 use super::transport::{Splat, Stats, Term, World};
 use crate::image::Layers;
-use crate::progress::Progress;
-use crate::render::Budget;
+use crate::render::budget::Budget;
+use crate::render::progress::Progress;
 use crate::rng::Rng;
 use rayon::prelude::*;
 use std::time::Instant;

@@ -10,7 +10,7 @@ use super::transport::{OnceMoreTech, ShaftSampling, Term};
 use super::water::Water;
 use crate::error::{CliError, Result};
 use crate::phase::PhaseSpec;
-use crate::scene::Range;
+use crate::range::Range;
 use glam::{Vec2, Vec3};
 use std::collections::BTreeSet;
 

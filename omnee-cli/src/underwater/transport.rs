@@ -486,7 +486,7 @@ impl World<'_> {
     /// Traces one light path and appends its splats.
     pub fn trace(&self, rng: &mut Rng, out: &mut Vec<Splat>, stats: &mut Stats) {
         stats.paths += 1;
-        let Some(xf) = self.start(rng.uniform3()) else {
+        let Some(xf) = self.start(uniform3(rng)) else {
             stats.outside_region += 1;
             return;
         };
@@ -632,11 +632,11 @@ impl World<'_> {
             connection,
         };
         match self.once_more.tech {
-            OnceMoreTech::Omnee => [omnee.sample(rng.uniform3()), None],
-            OnceMoreTech::Equiangular => [camera_rays.sample(rng.uniform3()), None],
+            OnceMoreTech::Omnee => [omnee.sample(uniform3(rng)), None],
+            OnceMoreTech::Equiangular => [camera_rays.sample(uniform3(rng)), None],
             OnceMoreTech::Mis => {
-                let [a, b, c] = rng.uniform3();
-                let [d, e, f] = rng.uniform3();
+                let [a, b, c] = uniform3(rng);
+                let [d, e, f] = uniform3(rng);
                 let theta_min = Deflection::from_theta(self.once_more.mis_theta_min);
                 match OmneeMis::new(omnee, &camera_rays, self.once_more.mis_rate, theta_min) {
                     Ok(mis) => mis.sample([a, b, c, d, e, f]),
@@ -661,7 +661,7 @@ impl World<'_> {
         stats: &mut Stats,
     ) {
         let eye = self.camera.eye;
-        let [u0, u1, _] = rng.uniform3::<f32>();
+        let [u0, u1, _] = uniform3(rng);
         let line = EquiangularLine::new(y, dt, len, eye);
         let free = |t: f32| self.water.free_flight_pdf(len, t);
         let (t, pdf) = match (self.shafts, line) {
@@ -699,6 +699,12 @@ impl World<'_> {
             * (power * phase * p.importance / (d2 * pdf));
         self.splat(Term::Shafts, p, value, out, stats);
     }
+}
+
+/// Three uniform numbers from `rng`.
+#[inline]
+fn uniform3(rng: &mut Rng) -> [f32; 3] {
+    [rng.uniform(), rng.uniform(), rng.uniform()]
 }
 
 /// Equiangular sampling of `x1` from a camera ray through a uniform point
