@@ -46,7 +46,12 @@ impl<F: Real, L: Lobe<F>, P: Restricted<F>> LobeRay<F, L, P> {
             connection,
             lobe,
             phase,
-            theta_max: Deflection::from_theta(connection.theta_max),
+            // θmax = π with versines (2, 0) exactly: no mass above it to evaluate.
+            theta_max: if connection.theta_max >= F::PI {
+                Deflection::from_versines(F::TWO, F::ZERO)
+            } else {
+                Deflection::from_theta(connection.theta_max)
+            },
         }
     }
 

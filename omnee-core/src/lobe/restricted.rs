@@ -20,7 +20,7 @@ pub trait Restricted<F: Real>: PhaseFunction<F> {
     /// `M = P(lo ≤ Θ < hi) = P(hi) − P(lo)`, at least 0.
     #[inline]
     fn mass_between(&self, lo: Deflection<F>, hi: Deflection<F>) -> F {
-        (self.cdf(hi) - self.cdf(lo)).max(F::ZERO)
+        (cdf_up_to(self, hi) - self.cdf(lo)).max(F::ZERO)
     }
 
     /// A deflection in `[lo, hi]` with density `2π p(θ) sin θ / M` from
@@ -37,7 +37,7 @@ pub trait Restricted<F: Real>: PhaseFunction<F> {
         u: F,
     ) -> Option<(Deflection<F>, F)> {
         let below = self.cdf(lo);
-        let mass = (self.cdf(hi) - below).max(F::ZERO);
+        let mass = (cdf_up_to(self, hi) - below).max(F::ZERO);
         if !(mass > F::ZERO) {
             return None;
         }
@@ -51,8 +51,18 @@ pub trait Restricted<F: Real>: PhaseFunction<F> {
     fn invert_between(&self, lo: Deflection<F>, hi: Deflection<F>, d: Deflection<F>) -> Option<F> {
         let u = self.invert(d)?;
         let below = self.cdf(lo);
-        let mass = self.cdf(hi) - below;
+        let mass = cdf_up_to(self, hi) - below;
         (mass > F::ZERO).then(|| ((u - below) / mass).clamp_to(F::ZERO, F::ONE))
+    }
+}
+
+/// `P(hi)`: 1 without evaluating it when `hi` is π (the common θmax).
+#[inline]
+fn cdf_up_to<F: Real, P: PhaseFunction<F> + ?Sized>(p: &P, hi: Deflection<F>) -> F {
+    if hi.one_plus_cos > F::ZERO {
+        p.cdf(hi)
+    } else {
+        F::ONE
     }
 }
 
