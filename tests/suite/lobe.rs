@@ -40,6 +40,11 @@ fn tilted(e: DVec3, tilt: f64) -> DVec3 {
 /// χ² cases: p0, p1, tilt, θmax, x0, x2.
 type Case = (&'static str, &'static str, f64, f64, [f64; 3], [f64; 3]);
 
+/// The lobes at `x0` are mild (g ≤ 0.7): the lobe technique's density is
+/// then smooth in the test's (θ, β/θ, φ) cells; a peaked lobe tilted from
+/// the axis concentrates it around an interior point that the cells'
+/// quadrature does not resolve (measured: 6 % of the mass lost). Peaked
+/// lobes are covered by the unbiasedness test below.
 const RAY_CASES: [Case; 4] = [
     (
         "hg:0.7",
@@ -50,8 +55,8 @@ const RAY_CASES: [Case; 4] = [
         [0.0, 0.0, 1.0],
     ),
     (
-        "tthg:0.99,-0.44,0.954",
-        "tthg:0.997,0.96,0.5",
+        "tthg:0.7,-0.5,0.8",
+        "tthg:0.9,-0.3,0.9",
         1.0,
         PI,
         [0.3, -1.0, 2.0],
@@ -85,8 +90,8 @@ const MIS_CASES: [Case; 2] = [
         [0.0, 1.0, 0.0],
     ),
     (
+        "tthg:0.6,-0.3,0.9",
         "mie:10",
-        "hg:0.5",
         1.2,
         2.0,
         [-1.0, 0.0, 0.5],
@@ -318,10 +323,13 @@ fn every_lobe_technique_estimates_the_three_dimensional_reference() {
 }
 
 /// f32 against f64 from the same uniform numbers at extreme inputs: every
-/// output finite, and where the f64 sample is well conditioned (its ray not
-/// within 1e-3 of the axis, the restricted mass above 1e-3, so that f32's
-/// `1 − P1(α)` keeps four digits) the weights agree to 1e-3 and the points
-/// to 1e-3 of their distance from `x0`.
+/// output finite, and where the f64 sample is well conditioned the weights
+/// agree to 1e-3 and the points to 1e-3 of their distance from `x0`. Well
+/// conditioned: the ray at least 1e-3 from the axis, and the mass of `p1`
+/// above α and above the drawn θ at least 1e-3, because `M = 1 − P1(α)` and
+/// the restricted inverse CDF `P⁻¹(P(α) + u M)` resolve `1 − P` to f32's
+/// 6e-8 absolute: 6e-5 relative at 1e-3 (measured: 1e-3 at masses of 2e-4
+/// and 1e-4; docs/math.md §12.2).
 #[test]
 fn f32_lobe_techniques_agree_with_f64_at_extreme_inputs() {
     let mut rng = Rng::new(15_600);
@@ -330,6 +338,9 @@ fn f32_lobe_techniques_agree_with_f64_at_extreme_inputs() {
         for tilt in [1e-6, 0.3, PI - 1e-6] {
             for s in [1e-6f64, 1.0, 1e6] {
                 let spec = format!("hg:{g}");
+                // The f64 side gets the f32-rounded g: 1 − g moves by 1.3e-5
+                // relative in the rounding alone, and the tail with it.
+                let spec64 = format!("hg:{}", g as f32 as f64);
                 let x0 = DVec3::new(0.25, -0.5, 0.75) * s;
                 let x2 = x0 + DVec3::new(0.0, 0.6, 0.8) * s;
                 let c64 = Connection::new(x0, x2, PI).unwrap();
@@ -338,9 +349,9 @@ fn f32_lobe_techniques_agree_with_f64_at_extreme_inputs() {
                 let c64 = Connection::new(c32.axis.x0.as_dvec3(), c32.axis.x2.as_dvec3(), PI)
                     .unwrap_or(c64);
                 let w_in = tilted(c64.axis.e, tilt);
-                let l64 = PhaseLobe::new(phase::<f64>(&spec), w_in).unwrap();
+                let l64 = PhaseLobe::new(phase::<f64>(&spec64), w_in).unwrap();
                 let l32 = PhaseLobe::new(phase::<f32>(&spec), w_in.as_vec3()).unwrap();
-                let p64 = phase::<f64>(&spec);
+                let p64 = phase::<f64>(&spec64);
                 let r64 = LobeRay::new(c64, l64, p64);
                 let r32 = LobeRay::new(c32, l32, phase::<f32>(&spec));
                 let m32 = LobeMis::recommended(c32, l32, phase::<f32>(&spec));
@@ -369,7 +380,9 @@ fn f32_lobe_techniques_agree_with_f64_at_extreme_inputs() {
                         omnee::phase::Deflection::from_theta(alpha),
                         omnee::phase::Deflection::from_theta(PI),
                     );
-                    if !(alpha > 1e-3 && mass > 1e-3) {
+                    let (theta, _, _) = c64.deflection(b.x1).unwrap();
+                    let above = p64.mass_between(theta, omnee::phase::Deflection::from_theta(PI));
+                    if !(alpha > 1e-3 && mass > 1e-3 && above > 1e-3) {
                         continue;
                     }
                     let d1 = (b.x1 - c64.axis.x0).length();

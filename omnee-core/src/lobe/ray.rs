@@ -80,6 +80,22 @@ impl<F: Real, L: Lobe<F>, P: Restricted<F>> LobeRay<F, L, P> {
     }
 }
 
+/// β = θ − α, for α > π/2 as `(π − α) − (π − θ)` with each supplement
+/// `π − x = 2 atan2(√(1 + cos x), √(1 − cos x))` from the versines: near π
+/// θ − α would lose the absolute rounding of π (2.4e-7 in f32) on a β
+/// that may be 1e-4.
+#[inline]
+fn beta<F: Real>(alpha: Deflection<F>, theta: Deflection<F>) -> F {
+    let beta = if alpha.one_plus_cos < F::ONE {
+        let supplement =
+            |d: Deflection<F>| F::TWO * d.one_plus_cos.sqrt().atan2(d.one_minus_cos.sqrt());
+        supplement(alpha) - supplement(theta)
+    } else {
+        theta.theta - alpha.theta
+    };
+    beta.max(F::ZERO)
+}
+
 impl<F: Real, L: Lobe<F>, P: Restricted<F>> Technique<F> for LobeRay<F, L, P> {
     /// ω from `(u0, u1)` by the lobe, θ from `u2` by `p1` restricted to
     /// `[α, θmax)`, `β = θ − α`, `x1 = x0 + d1 ω` with `d1` from
@@ -97,7 +113,7 @@ impl<F: Real, L: Lobe<F>, P: Restricted<F>> Technique<F> for LobeRay<F, L, P> {
         if !(theta.theta < self.connection.theta_max) {
             return None;
         }
-        let beta = (theta.theta - alpha.theta).max(F::ZERO);
+        let beta = beta(alpha, theta);
         let ratio = if theta.theta > F::ZERO {
             (beta / theta.theta).min(F::ONE)
         } else {

@@ -244,6 +244,9 @@ fn recommended_probability_is_zero_where_omnee_needs_no_help() {
     assert_eq!(LobeMis::recommended(c, iso, p1).probability(), 0.0);
     let along = PhaseLobe::new(HenyeyGreenstein::new(0.98).unwrap(), DVec3::Z).unwrap();
     assert_eq!(LobeMis::recommended(c, along, p1).probability(), 0.0);
+    // A mild lobe tilted by 1 rad: p0(e)/p0_peak = 0.21 > 0.1.
+    let mild = PhaseLobe::new(HenyeyGreenstein::new(0.5).unwrap(), tilted(DVec3::Z, 1.0)).unwrap();
+    assert_eq!(LobeMis::recommended(c, mild, p1).probability(), 0.0);
     let away = PhaseLobe::new(HenyeyGreenstein::new(0.98).unwrap(), DVec3::X).unwrap();
     let q = LobeMis::recommended(c, away, p1).probability();
     assert!(q > 0.49 && q <= 0.5, "{q}");
