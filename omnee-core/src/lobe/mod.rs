@@ -230,6 +230,18 @@ impl<F: Real, L: Lobe<F> + ?Sized> Lobe<F> for &L {
     }
 }
 
+/// The lobe at `x0` evaluated towards `x1`, `eval((x1 − x0)/d1)`; 0 where
+/// `x1` is `x0` or not finite.
+#[inline]
+fn eval_towards<F: Real, L: Lobe<F>>(lobe: &L, x0: F::Vec3, x1: F::Vec3) -> F {
+    let a = x1 - x0;
+    let d1 = a.length();
+    if !(d1 > F::ZERO && d1.is_finite()) {
+        return F::ZERO;
+    }
+    lobe.eval(a * (F::ONE / d1))
+}
+
 /// A technique of [`crate::sampling`] (OMNEE, equiangular, ...) used for the
 /// kernel with a lobe at `x0`: it does not sample the lobe, so the lobe's
 /// value `p0(ω01)` multiplies its weight, `k/pdf = p0 · (p1/(d1² d2²))/pdf`;
@@ -257,12 +269,7 @@ impl<F: Real, T: Technique<F>, L: Lobe<F>> WithLobe<F, T, L> {
     /// `p0(ω01)` at `x1`; 0 at `x0` itself.
     #[inline]
     pub fn lobe_at(&self, x1: F::Vec3) -> F {
-        let a = x1 - self.x0;
-        let d1 = a.length();
-        if !(d1 > F::ZERO && d1.is_finite()) {
-            return F::ZERO;
-        }
-        self.lobe.eval(a * (F::ONE / d1))
+        eval_towards(&self.lobe, self.x0, x1)
     }
 }
 

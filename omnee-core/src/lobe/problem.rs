@@ -4,7 +4,7 @@
 use super::Lobe;
 use crate::phase::{Deflection, PhaseFunction};
 use crate::quadrature::integrate_geometric;
-use crate::real::{Real, Vector, sinc};
+use crate::real::{Real, sinc};
 use crate::reference::PointToPoint;
 use crate::sampling::Sample;
 use glam::DVec3;
@@ -37,15 +37,10 @@ impl<F: Real, L: Lobe<F>> LobeToPoint<F, L> {
     /// `p0(ω01)` at `x1` (1 without a lobe, 0 at `x0` itself).
     #[inline]
     pub fn lobe_at(&self, x1: F::Vec3) -> F {
-        let Some(lobe) = &self.lobe else {
-            return F::ONE;
-        };
-        let a = x1 - self.point.connection.axis.x0;
-        let d1 = a.length();
-        if !(d1 > F::ZERO && d1.is_finite()) {
-            return F::ZERO;
+        match &self.lobe {
+            Some(lobe) => super::eval_towards(lobe, self.point.connection.axis.x0, x1),
+            None => F::ONE,
         }
-        lobe.eval(a * (F::ONE / d1))
     }
 
     /// The kernel `k(x1) = p0(ω01) p1(θ) / (d1² d2²)` for θ < θmax, else 0:
