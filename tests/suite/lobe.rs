@@ -80,11 +80,13 @@ const RAY_CASES: [Case; 4] = [
     ),
 ];
 
+/// Both with `p0(e)/p0_peak < 0.1`, where the recommended combination
+/// draws the lobe technique (c ≈ 0.46).
 const MIS_CASES: [Case; 2] = [
     (
-        "hg:0.8",
+        "hg:0.7",
         "hg:0.9",
-        0.3,
+        0.8,
         PI,
         [0.0, 0.0, 0.0],
         [0.0, 1.0, 0.0],
