@@ -19,7 +19,7 @@ use crate::harness::{Rng, normal_two_sided_quantile, sidak};
 use glam::DVec3;
 use omnee::lobe::{LobeMis, LobeRay, LobeToPoint, PhaseLobe, Restricted, WithLobe};
 use omnee::medium::Homogeneous;
-use omnee::phase::{Phase, Spec};
+use omnee::phase::{Deflection, Phase, PhaseFunction, Spec};
 use omnee::reference::PointToPoint;
 use omnee::sampling::{Connection, Omnee, Technique};
 use std::f64::consts::PI;
@@ -160,8 +160,20 @@ fn the_lobe_technique_samples_its_pdf() {
 fn the_combination_samples_its_mixture_pdf() {
     for (i, case) in MIS_CASES.iter().enumerate() {
         let c = connection(case);
-        let t = LobeMis::recommended(c, lobe(case, &c), phase::<f64>(case.1));
-        assert!(t.probability() > 0.1, "{case:?}: c = {}", t.probability());
+        let l = lobe(case, &c);
+        let t = LobeMis::recommended(c, l, phase::<f64>(case.1));
+        // The documented rule, c = (1 − ρ)/2 for ρ = p0(e)/p0_peak < 0.1,
+        // from the phase function's own values (ρ ≈ 0.07 in both cases).
+        let p0 = phase::<f64>(case.0);
+        let at = |cos: f64| p0.eval(Deflection::from_cos(cos));
+        let rho = at(l.incoming().dot(c.axis.e)) / at(1.0).max(at(-1.0));
+        assert!(rho < 0.1, "{case:?}: ρ = {rho}");
+        let want = 0.5 * (1.0 - rho);
+        assert!(
+            (t.probability() - want).abs() < 1e-9,
+            "{case:?}: c = {} vs {want}",
+            t.probability()
+        );
         chi2_check(&format!("lobe mis {case:?}"), &t, case, 15_100 + i as u64);
     }
 }
@@ -378,12 +390,10 @@ fn f32_lobe_techniques_agree_with_f64_at_extreme_inputs() {
                     };
                     let omega = (b.x1 - c64.axis.x0).normalize();
                     let alpha = omega.dot(c64.axis.e).acos();
-                    let mass = p64.mass_between(
-                        omnee::phase::Deflection::from_theta(alpha),
-                        omnee::phase::Deflection::from_theta(PI),
-                    );
+                    let mass =
+                        p64.mass_between(Deflection::from_theta(alpha), Deflection::from_theta(PI));
                     let (theta, _, _) = c64.deflection(b.x1).unwrap();
-                    let above = p64.mass_between(theta, omnee::phase::Deflection::from_theta(PI));
+                    let above = p64.mass_between(theta, Deflection::from_theta(PI));
                     if !(alpha > 1e-3 && mass > 1e-3 && above > 1e-3) {
                         continue;
                     }
