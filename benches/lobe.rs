@@ -15,9 +15,11 @@
 //!   restricted to `[α, π)`;
 //! - `lobe-eq`: the prototype's, direction from `p0`, then an equiangular
 //!   distance about `x2` along it (β uniform in `[0, π − α)`), written here
-//!   for the comparison only;
-//! - `mis-half`: one-sample balance MIS choosing each technique with 1/2
-//!   (`LobeMis::new(.., 0.5)`, the prototype's combination);
+//!   for the comparison only (with its pdf, for `mis-eq`);
+//! - `mis-eq`: one-sample balance MIS of `omnee` and `lobe-eq`, each chosen
+//!   with 1/2 (`mis::OneSample`): the prototype's combination;
+//! - `mis-half`: the same with `lobe` instead of `lobe-eq`
+//!   (`LobeMis::new(.., 0.5)`);
 //! - `mis`: `LobeMis::recommended`, the combination the core recommends.
 //!
 //! Reported per technique: the relative variance per sample
@@ -42,6 +44,7 @@ use glam::{DVec3, Vec3};
 use omnee::Vector;
 use omnee::lobe::{Lobe, LobeMis, LobeRay, LobeToPoint, PhaseLobe, WithLobe};
 use omnee::medium::Homogeneous;
+use omnee::mis::{Heuristic, OneSample};
 use omnee::phase::{Deflection, Phase, PhaseFunction, Spec};
 use omnee::reference::PointToPoint;
 use omnee::sampling::{Connection, Omnee, Sample, Technique};
@@ -57,7 +60,7 @@ const PHASES: [&str; 5] = [
     "tthg:0.997,0.960,0.5",
     "tthg:0.990,-0.440,0.954",
 ];
-const TECHS: [&str; 5] = ["omnee", "lobe", "lobe-eq", "mis-half", "mis"];
+const TECHS: [&str; 6] = ["omnee", "lobe", "lobe-eq", "mis-eq", "mis-half", "mis"];
 
 fn phase<F: omnee::Real>(spec: &str) -> Phase<'static, F> {
     match Spec::<F>::parse(spec).expect("valid spec") {
@@ -120,8 +123,19 @@ impl<L: Lobe<f32>, P: PhaseFunction<f32>> Technique<f32> for LobeEquiangular<L, 
             weight: dir.value / dir.pdf * self.phase.eval(theta) * span / (axis.s * sin_alpha),
         })
     }
-    fn pdf(&self, _x1: Vec3) -> f32 {
-        unimplemented!("not combined")
+    fn pdf(&self, x1: Vec3) -> f32 {
+        let axis = &self.connection.axis;
+        let Some((_, d1, d2)) = self.connection.deflection(x1) else {
+            return 0.0;
+        };
+        let omega = (x1 - axis.x0) / d1;
+        let alpha = Deflection::between(axis.e, omega);
+        let span = std::f32::consts::PI - alpha.theta;
+        if !(span > 0.0) {
+            return 0.0;
+        }
+        let r = 1.0 / (d1 * d2);
+        self.lobe.pdf(omega) * axis.s * alpha.sin() / span * r * r
     }
     fn invert(&self, _x1: Vec3) -> Option<[f32; 3]> {
         None
@@ -165,7 +179,9 @@ struct Row {
 fn measure(spec0: &str, spec1: &str, tilt: f64, n: u64) -> Row {
     let p64 = point::<f64>();
     let lobe64 = PhaseLobe::new(phase::<f64>(spec0), incoming(tilt)).unwrap();
-    let reference = LobeToPoint::new(p64, Some(lobe64)).integral(&phase::<f64>(spec1));
+    let reference = LobeToPoint::new(p64, Some(lobe64))
+        .unwrap()
+        .integral(&phase::<f64>(spec1));
     let p = point::<f32>();
     let c = p.connection;
     let lobe = PhaseLobe::new(phase::<f32>(spec0), incoming(tilt).as_vec3()).unwrap();
@@ -177,9 +193,15 @@ fn measure(spec0: &str, spec1: &str, tilt: f64, n: u64) -> Row {
         lobe,
         phase: p1,
     };
+    let mis_eq = OneSample::new(
+        [&omnee as &dyn Technique<f32>, &eq],
+        [0.5, 0.5],
+        Heuristic::Balance,
+    )
+    .unwrap();
     let half = LobeMis::new(c, lobe, p1, 0.5).unwrap();
     let mis = LobeMis::recommended(c, lobe, p1);
-    let techniques: [&dyn Technique<f32>; 5] = [&omnee, &ray, &eq, &half, &mis];
+    let techniques: [&dyn Technique<f32>; 6] = [&omnee, &ray, &eq, &mis_eq, &half, &mis];
     let results = techniques
         .iter()
         .map(|t| {

@@ -297,7 +297,7 @@ fn every_lobe_technique_estimates_the_three_dimensional_reference() {
         let point = PointToPoint::new(c, medium, None).unwrap();
         let lobe = PhaseLobe::new(phase::<f64>(spec0), tilted(c.axis.e, tilt)).unwrap();
         let p1 = phase::<f64>(spec1);
-        let problem = LobeToPoint::new(point, Some(lobe));
+        let problem = LobeToPoint::new(point, Some(lobe)).unwrap();
         let want = problem.integral(&p1);
         let omnee = WithLobe::new(Omnee::new(c, p1), lobe, x0);
         let ray = LobeRay::new(c, lobe, p1);

@@ -65,13 +65,15 @@ fn isotropic_lobe_reference_is_the_two_dimensional_one_over_four_pi() {
         );
         let p1 = phase(spec);
         let lobe = PhaseLobe::new(Isotropic, DVec3::new(0.2, 0.9, -0.1)).unwrap();
-        let with = LobeToPoint::new(p, Some(lobe)).integral(&p1);
+        let with = LobeToPoint::new(p, Some(lobe)).unwrap().integral(&p1);
         let plain = p.integral(&p1) / (4.0 * core::f64::consts::PI);
         assert!(
             (with / plain - 1.0).abs() < 1e-8,
             "{spec}: {with:e} vs {plain:e}"
         );
-        let without = LobeToPoint::<f64, PhaseLobe<f64, Isotropic>>::new(p, None).integral(&p1);
+        let without = LobeToPoint::<f64, PhaseLobe<f64, Isotropic>>::new(p, None)
+            .unwrap()
+            .integral(&p1);
         assert_eq!(without, p.integral(&p1));
     }
     std::println!("four isotropic-lobe references: {:?}", start.elapsed());
@@ -88,7 +90,10 @@ fn lobe_along_the_axis_without_attenuation_is_a_double_integral() {
     let p = point(x0, x2, theta_max, 1e-200, 0.0);
     let p0 = HenyeyGreenstein::new(0.9).unwrap();
     let lobe = PhaseLobe::new(p0, DVec3::Z).unwrap();
-    let got = LobeToPoint::new(p, Some(lobe)).integral(&Isotropic) / 1e-200;
+    let got = LobeToPoint::new(p, Some(lobe))
+        .unwrap()
+        .integral(&Isotropic)
+        / 1e-200;
     let want = 1.0 / (2.0 * 2.0)
         * crate::quadrature::integrate_geometric(
             |a| p0.eval(crate::phase::Deflection::from_theta(a)) * (theta_max - a),
@@ -164,7 +169,7 @@ fn every_technique_weighs_its_kernel_by_its_pdf() {
         let e = p.connection.axis.e;
         let lobe = PhaseLobe::new(phase(spec0), tilted(e, tilt)).unwrap();
         let p1 = phase(spec1);
-        let problem = LobeToPoint::new(p, Some(lobe));
+        let problem = LobeToPoint::new(p, Some(lobe)).unwrap();
         let ray = LobeRay::new(p.connection, lobe, p1);
         check_trio(
             &std::format!("ray {spec0} {spec1}"),
@@ -294,4 +299,15 @@ fn bad_input_is_refused_or_gives_no_sample() {
             assert!(pdf.is_finite() && pdf >= 0.0, "{x1}: {pdf}");
         }
     }
+}
+
+#[test]
+fn a_lobe_with_a_receiver_normal_is_refused() {
+    let c = Connection::new(DVec3::ZERO, DVec3::Z, 2.0).unwrap();
+    let medium = Homogeneous::from_extinction(0.5, 0.8).unwrap();
+    let p = PointToPoint::new(c, medium, Some(DVec3::new(0.2, 0.4, -1.0))).unwrap();
+    let lobe = PhaseLobe::new(Isotropic, DVec3::X).unwrap();
+    let e = LobeToPoint::new(p, Some(lobe)).unwrap_err();
+    assert_eq!(e.field(), "receiver_normal");
+    assert!(LobeToPoint::<f64, PhaseLobe<f64, Isotropic>>::new(p, None).is_ok());
 }
