@@ -33,19 +33,21 @@
 
 mod common;
 
-use common::{arg, docs_path, flag, fmt3, loglog, median};
-use plotters::prelude::*;
+use common::curve::{Curve, Point};
+use common::{
+    COLORS, ISSUE4_PHASES, NAMES, arg, best_other_single, docs_path, flag, fmt_opt, fmt3, loglog,
+    ratio,
+};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-const TECHS: [&str; 4] = ["omnee", "equiangular", "distance", "mis"];
-const COLORS: [RGBColor; 4] = [
-    RGBColor(0, 114, 178),
-    RGBColor(213, 94, 0),
-    RGBColor(0, 158, 115),
-    RGBColor(204, 121, 167),
-];
+/// The child's CPU time comes in ticks of 10 ms.
+const TICK: f64 = 0.01;
+/// Spp from which on the efficiency median is taken (≥ 0.1 s, ten ticks).
+const EFF_SPP: u64 = 16;
+/// The default scene's phase function.
+const DEFAULT_PHASE: &str = "hg:0.98";
 /// Height of the light above the floor in the default scene (m).
 const LIGHT_HEIGHT: f64 = 0.95;
 /// Albedo σs/σt of the default scene.
@@ -61,18 +63,11 @@ struct Variant {
 
 fn variants() -> Vec<Variant> {
     let mut v = vec![Variant {
-        name: "default (hg:0.98, τ≈0.52)".into(),
-        phase: "hg:0.98",
+        name: format!("default ({DEFAULT_PHASE}, τ≈0.52)"),
+        phase: DEFAULT_PHASE,
         tau: None,
     }];
-    for p in [
-        "hg:0",
-        "hg:0.5",
-        "hg:0.9",
-        "tthg:0.99,-0.44,0.96",
-        "ff:0.0183,1.10",
-        "mie:10",
-    ] {
+    for p in ISSUE4_PHASES.into_iter().filter(|&p| p != DEFAULT_PHASE) {
         v.push(Variant {
             name: format!("{p}, τ≈0.52"),
             phase: p,
@@ -81,8 +76,8 @@ fn variants() -> Vec<Variant> {
     }
     for tau in [0.1, 1.0, 3.0] {
         v.push(Variant {
-            name: format!("hg:0.98, τ={tau}"),
-            phase: "hg:0.98",
+            name: format!("{DEFAULT_PHASE}, τ={tau}"),
+            phase: DEFAULT_PHASE,
             tau: Some(tau),
         });
     }
@@ -140,33 +135,19 @@ struct Img {
     rgb: Vec<[f32; 3]>,
 }
 
+/// The main layer of an EXR written by the renderer
+/// ([`omnee_cli::image::read_exr`]).
 fn read_exr(path: &Path) -> Img {
-    use exr::prelude::*;
-    let image = read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .all_channels()
-        .first_valid_layer()
-        .all_attributes()
-        .from_file(path)
-        .expect("read EXR");
-    let layer = &image.layer_data;
-    let (w, h) = (layer.size.width(), layer.size.height());
-    let mut rgb = vec![[0.0f32; 3]; w * h];
-    for ch in &layer.channel_data.list {
-        let k = match ch.name.to_string().as_str() {
-            "R" => 0,
-            "G" => 1,
-            "B" => 2,
-            _ => continue,
-        };
-        for (i, v) in ch.sample_data.values_as_f32().enumerate() {
-            rgb[i][k] = v;
-        }
-    }
+    let layers = omnee_cli::image::read_exr(path).expect("read EXR");
+    let rgb = layers
+        .get("")
+        .expect("the main layer")
+        .chunks_exact(3)
+        .map(|p| [p[0], p[1], p[2]])
+        .collect();
     Img {
-        width: w,
-        height: h,
+        width: layers.width,
+        height: layers.height,
         rgb,
     }
 }
@@ -229,42 +210,6 @@ fn rel_mse(img: &Img, reference: &[f64]) -> f64 {
         / reference.len() as f64
 }
 
-/// (spp, CPU seconds, wall seconds, relMSE) per render.
-type Curve = Vec<(u32, f64, f64, f64)>;
-
-fn efficiency(c: &Curve) -> f64 {
-    let mut e: Vec<f64> = c
-        .iter()
-        .filter(|p| p.0 >= 16)
-        .map(|p| 1.0 / (p.3 * p.1.max(0.01)))
-        .collect();
-    if e.is_empty() {
-        f64::NAN
-    } else {
-        median(&mut e)
-    }
-}
-
-/// relMSE at `budget` CPU seconds, log-log interpolated, slope −1 outside.
-fn at_time(c: &Curve, budget: f64) -> f64 {
-    let pts: Vec<(f64, f64)> = c.iter().map(|p| (p.1.max(0.01), p.3)).collect();
-    let (first, last) = (pts[0], pts[pts.len() - 1]);
-    if budget <= first.0 {
-        return first.1 * first.0 / budget;
-    }
-    if budget >= last.0 {
-        return last.1 * last.0 / budget;
-    }
-    for w in pts.windows(2) {
-        let ((t0, r0), (t1, r1)) = (w[0], w[1]);
-        if budget >= t0 && budget <= t1 && t1 > t0 {
-            let f = (budget / t0).ln() / (t1 / t0).ln();
-            return (r0.ln() + f * (r1 / r0).ln()).exp();
-        }
-    }
-    last.1 * last.0 / budget
-}
-
 struct Row {
     name: String,
     reference_noise: f64,
@@ -277,15 +222,11 @@ fn plot(rows: &[Row], path: &Path) -> Result<(), Box<dyn std::error::Error>> {
         .iter()
         .map(|row| loglog::Panel {
             caption: row.name.clone(),
-            curves: row
-                .curves
-                .iter()
-                .map(|c| c.iter().map(|p| (p.1.max(0.01), p.3)).collect())
-                .collect(),
+            curves: row.curves.iter().map(Curve::time_error).collect(),
         })
         .collect();
     let layout = loglog::Layout {
-        names: &TECHS,
+        names: &NAMES,
         colors: &COLORS,
         cols: 2,
         panel: (420, 260),
@@ -365,7 +306,7 @@ fn crops(
     let scale = 0.8 / sorted[(sorted.len() as f64 * 0.995) as usize].max(1e-30);
     let (cw, ch) = (reference.width, reference.height);
     let gap = 4;
-    let panels = TECHS.len() + 1;
+    let panels = NAMES.len() + 1;
     let (out_w, out_h) = (panels * cw + (panels - 1) * gap, ch);
     let mut out = vec![255u8; out_w * out_h * 3];
     let mut put = |k: usize, img: &Img| {
@@ -387,9 +328,8 @@ fn crops(
          One exposure for all panels.\n\n| technique | spp | CPU s | relMSE |\n|---|---|---|---|"
     )
     .unwrap();
-    for (k, tech) in TECHS.iter().enumerate() {
-        let &(spp_max, t_max, _, _) = curves[k].last().unwrap();
-        let per_spp = t_max / spp_max as f64 * pixels as f64 / small_pixels as f64;
+    for (k, tech) in NAMES.iter().enumerate() {
+        let per_spp = curves[k].seconds_per_sample() * pixels as f64 / small_pixels as f64;
         let spp = ((budget / per_spp).round() as u32).max(1);
         let (img, cpu) = go(tech, spp, 8_000 + k as u64, 1);
         writeln!(
@@ -400,7 +340,7 @@ fn crops(
         .unwrap();
         put(k, &img);
     }
-    put(TECHS.len(), &reference);
+    put(NAMES.len(), &reference);
     let path = docs_path("figures/slab-equal-time.png");
     let file = std::fs::File::create(&path).expect("create png");
     let mut enc = png::Encoder::new(std::io::BufWriter::new(file), out_w as u32, out_h as u32);
@@ -468,10 +408,10 @@ fn main() {
             .collect();
         let reference_noise =
             rel_mse(&a, &b.rgb.iter().map(|&p| luminance(p)).collect::<Vec<_>>()) / 4.0;
-        let mut curves = vec![Curve::new(); TECHS.len()];
+        let mut curves = vec![Curve::new(TICK); NAMES.len()];
         for log2 in 0..=max_log2 {
             let spp = 1u32 << log2;
-            for (k, tech) in TECHS.iter().enumerate() {
+            for (k, tech) in NAMES.iter().enumerate() {
                 let (img, cpu, wall) = render(
                     &omnee,
                     &scene,
@@ -483,14 +423,22 @@ fn main() {
                     &[],
                     &dir.join(format!("run-{tech}")),
                 );
-                curves[k].push((spp, cpu, wall, rel_mse(&img, &reference)));
+                curves[k].points.push(Point {
+                    count: spp.into(),
+                    cpu_seconds: cpu,
+                    wall_seconds: wall,
+                    rel_mse: rel_mse(&img, &reference),
+                });
             }
         }
         eprintln!(
             "{}: reference noise {:.2e}, efficiency {:?} ({:.0} s)",
             v.name,
             reference_noise,
-            curves.iter().map(efficiency).collect::<Vec<_>>(),
+            curves
+                .iter()
+                .map(|c| c.efficiency(EFF_SPP))
+                .collect::<Vec<_>>(),
             started.elapsed().as_secs_f64()
         );
         if vi == 0 {
@@ -509,40 +457,34 @@ fn main() {
         md,
         "<!-- generated by `cargo bench --bench slab_time_vs_error -- --resolution {resolution} --max-log2 {max_log2} --reference-spp {reference_spp}`; do not edit -->\n\n\
          ### Slab scene, once-more term: relMSE at equal time ({budget} s of one core) and efficiency\n\n\
-         Efficiency is the median over spp = 16 … 2^{max_log2} of 1/(relMSE·CPU seconds); `÷ eq.` relative to equiangular, \
+         Efficiency is the median over spp = {EFF_SPP} … 2^{max_log2} of 1/(relMSE·CPU seconds); `÷ eq.` relative to equiangular, \
          `÷ best single` relative to the best of omnee, equiangular and distance (other than itself). \
-         The reference noise is the reference's own relMSE, estimated from its two halves.\n\n\
+         The reference noise is the reference's own relMSE, estimated from its two halves. \
+         The relMSE at equal time is interpolated (log-log) between the measured renders around the budget; \
+         – where the budget lies outside the measured CPU times or no render qualifies for the efficiency.\n\n\
          | variant | ref. noise | relMSE omnee | relMSE equiangular | relMSE distance | relMSE mis | omnee ÷ eq. | omnee ÷ best other single | distance ÷ eq. | mis ÷ eq. | mis ÷ best single | CPU s per spp omnee / eq. / dist. / mis |\n\
          |---|---|---|---|---|---|---|---|---|---|---|---|"
     )
     .unwrap();
     let mut json = Vec::new();
     for row in &rows {
-        let eff: Vec<f64> = row.curves.iter().map(efficiency).collect();
-        let best_single = |i: usize| {
-            (0..3)
-                .filter(|&j| j != i)
-                .map(|j| eff[j])
-                .fold(0.0f64, f64::max)
-        };
-        let per_spp = |i: usize| {
-            let &(spp, t, _, _) = row.curves[i].last().unwrap();
-            t / spp as f64
-        };
+        let eff: Vec<Option<f64>> = row.curves.iter().map(|c| c.efficiency(EFF_SPP)).collect();
+        let best_single = |i: usize| best_other_single(&eff, i);
+        let per_spp = |i: usize| row.curves[i].seconds_per_sample();
         writeln!(
             md,
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} / {} / {} / {} |",
             row.name,
             fmt3(row.reference_noise),
-            fmt3(at_time(&row.curves[0], budget)),
-            fmt3(at_time(&row.curves[1], budget)),
-            fmt3(at_time(&row.curves[2], budget)),
-            fmt3(at_time(&row.curves[3], budget)),
-            fmt3(eff[0] / eff[1]),
-            fmt3(eff[0] / best_single(0)),
-            fmt3(eff[2] / eff[1]),
-            fmt3(eff[3] / eff[1]),
-            fmt3(eff[3] / best_single(3)),
+            fmt_opt(row.curves[0].at_time(budget)),
+            fmt_opt(row.curves[1].at_time(budget)),
+            fmt_opt(row.curves[2].at_time(budget)),
+            fmt_opt(row.curves[3].at_time(budget)),
+            fmt_opt(ratio(eff[0], eff[1])),
+            fmt_opt(ratio(eff[0], best_single(0))),
+            fmt_opt(ratio(eff[2], eff[1])),
+            fmt_opt(ratio(eff[3], eff[1])),
+            fmt_opt(ratio(eff[3], best_single(3))),
             fmt3(per_spp(0)),
             fmt3(per_spp(1)),
             fmt3(per_spp(2)),
@@ -552,10 +494,10 @@ fn main() {
         json.push(serde_json::json!({
             "variant": row.name,
             "reference_noise": row.reference_noise,
-            "curves": row.curves.iter().zip(TECHS).map(|(c, t)| serde_json::json!({
+            "curves": row.curves.iter().zip(NAMES).map(|(c, t)| serde_json::json!({
                 "technique": t,
-                "efficiency": efficiency(c),
-                "points": c.iter().map(|&(spp, cpu, wall, r)| serde_json::json!({"spp": spp, "cpu_seconds": cpu, "wall_seconds": wall, "rel_mse": r})).collect::<Vec<_>>(),
+                "efficiency": c.efficiency(EFF_SPP),
+                "points": c.points_json("spp"),
             })).collect::<Vec<_>>(),
         }));
     }

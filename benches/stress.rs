@@ -7,7 +7,8 @@
 //! π/2, π} × 3 geometries (`x0 − x2` along a random direction, exactly along
 //! +z, and along +z tilted by 1e-7: uniform sphere directions with `u0 → 0`
 //! point at +z, so the equiangular ray passes through or next to `x0`) ×
-//! 4 techniques (omnee, equiangular, distance with σ = 1/s, the CLI's MIS).
+//! 4 techniques (`omnee::method::Method::ALL`: omnee, equiangular, distance
+//! with σt = 1/s, the CLI's MIS), each drawn through `omnee::method::Setup`.
 //! Each case takes `--per-case` (default 2^15) uniform triples; each
 //! coordinate is, with probability ¼ each, one of 0, 2^-24, ½ or
 //! 1 − 2^-24 (the largest f32 below 1), or for `u0` the CDF of θmax minus
@@ -38,11 +39,12 @@
 
 mod common;
 
-use common::{SplitMix, arg, docs_path, seed};
+use common::{NAMES, arg, docs_path, phase, rounded_to_f32, seed};
 use omnee::medium::Region;
-use omnee::mis::OmneeMis;
-use omnee::phase::{Deflection, Phase, PhaseFunction, Spec};
-use omnee::sampling::{Connection, Directions, Distance, Equiangular, Omnee, Sample, Technique};
+use omnee::method::{Method, Setup};
+use omnee::phase::{Deflection, Phase, PhaseFunction};
+use omnee::rng::SplitMix64;
+use omnee::sampling::{Connection, Directions, Sample, uniform};
 use omnee::{Real, Vector};
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -67,7 +69,6 @@ const PHASES: [&str; 15] = [
 const DISTANCES: [f64; 7] = [1e-6, 1e-4, 1e-2, 1.0, 1e2, 1e4, 1e6];
 const THETA_MAX: [f32; 3] = [1e-2, std::f32::consts::FRAC_PI_2, std::f32::consts::PI];
 const GEOMETRIES: [&str; 3] = ["random", "+z", "+z tilted 1e-7"];
-const TECHS: [&str; 4] = ["omnee", "equiangular", "distance", "mis"];
 
 /// Log-histogram range of relative errors: 10^LO … 10^HI.
 const LO: i32 = -12;
@@ -86,14 +87,14 @@ struct Case {
     theta_max: f32,
     x0: [f32; 3],
     x2: [f32; 3],
-    tech: usize,
+    method: Method,
 }
 
 impl Case {
     fn describe(&self) -> String {
         format!(
             "{} `{}` s={:e} θmax={:.4} x0={:?} x2={:?}",
-            TECHS[self.tech], PHASES[self.phase], self.s, self.theta_max, self.x0, self.x2
+            self.method, PHASES[self.phase], self.s, self.theta_max, self.x0, self.x2
         )
     }
 }
@@ -222,91 +223,46 @@ impl Stats {
     }
 }
 
-/// The phase function of `spec` with every parameter rounded to f32 first,
-/// so that both precisions evaluate the same function.
-fn phase<F: Real>(spec: &str) -> Phase<'static, F> {
-    let spec = match spec.split_once(':') {
-        None => spec.to_string(),
-        Some((name, args)) => {
-            let args: Vec<String> = args
-                .split(',')
-                .map(|a| ((a.parse::<f64>().expect("number") as f32) as f64).to_string())
-                .collect();
-            format!("{name}:{}", args.join(","))
-        }
-    };
-    match Spec::<F>::parse(&spec).expect("valid spec") {
-        Spec::Analytic(p) => p,
-        Spec::Table { .. } => unreachable!(),
-    }
-}
-
 fn vec3<F: Real>(v: [f32; 3]) -> F::Vec3 {
     F::Vec3::new(F::from_f32(v[0]), F::from_f32(v[1]), F::from_f32(v[2]))
 }
 
-/// One precision's techniques for a case.
-struct Setup<F: Real> {
-    phase: Phase<'static, F>,
+/// One precision's setup and connection for a case: the phase function
+/// with its parameters rounded to f32 (both precisions evaluate the same
+/// function), uniform directions in an infinite medium, σt = 1/s.
+struct Problem<F: Real> {
+    setup: Setup<F, Phase<'static, F>>,
     full: Connection<F>,
-    sigma: F,
 }
 
-impl<F: Real> Setup<F> {
+impl<F: Real> Problem<F> {
     fn new(case: &Case) -> Self {
         let (x0, x2) = (vec3::<F>(case.x0), vec3::<F>(case.x2));
         let theta_max = F::from_f32(case.theta_max).min(F::PI);
+        let phase = phase::<F>(&rounded_to_f32(PHASES[case.phase]));
+        let sigma_t = F::ONE / F::from_f32(case.s);
         Self {
-            phase: phase::<F>(PHASES[case.phase]),
+            setup: Setup::new(phase, Directions::Sphere, Region::Everywhere, sigma_t)
+                .expect("valid sigma_t"),
             full: Connection::new(x0, x2, theta_max).expect("valid connection"),
-            sigma: F::ONE / F::from_f32(case.s),
         }
     }
 
-    /// The technique's pdf at `x1`.
-    fn pdf(&self, tech: usize, x1: F::Vec3) -> F {
-        let p = &self.phase;
-        let eq = Equiangular::new(self.full, p, Directions::Sphere, Region::Everywhere);
-        match tech {
-            0 => Omnee::new(self.full, p).pdf(x1),
-            1 => eq.pdf(x1),
-            2 => Distance::new(
-                self.full,
-                p,
-                Directions::Sphere,
-                Region::Everywhere,
-                self.sigma,
-            )
-            .expect("valid sigma")
-            .pdf(x1),
-            _ => OmneeMis::recommended(Omnee::new(self.full, p), &eq).pdf(x1),
-        }
+    /// The method's density at `x1`.
+    fn pdf(&self, method: Method, x1: F::Vec3) -> F {
+        self.setup.pdf(method, self.full, x1)
     }
 
-    /// The technique's vertices for `u` (one; for mis OMNEE's and, when
-    /// `u[1] < 0.1`, the companion's from the rotated triple `(u1, u2, u0)`)
-    /// with the pdf re-evaluated at each `x1`.
-    fn sample(&self, tech: usize, u: [F; 3]) -> [Option<(Sample<F>, F)>; 2] {
-        let p = &self.phase;
-        let eq = Equiangular::new(self.full, p, Directions::Sphere, Region::Everywhere);
-        let go = |t: &dyn Technique<F>| [t.sample(u).map(|s| (s, t.pdf(s.x1))), None];
-        match tech {
-            0 => go(&Omnee::new(self.full, p)),
-            1 => go(&eq),
-            2 => go(&Distance::new(
-                self.full,
-                p,
-                Directions::Sphere,
-                Region::Everywhere,
-                self.sigma,
-            )
-            .expect("valid sigma")),
-            _ => {
-                let mis = OmneeMis::recommended(Omnee::new(self.full, p), &eq);
-                mis.sample([u[0], u[1], u[2], u[1], u[2], u[0]])
-                    .map(|v| v.map(|s| (s, mis.pdf(s.x1))))
-            }
-        }
+    /// The method's vertices for `u` (one; for mis OMNEE's and, when
+    /// `u[1] < 0.05`, the companion's from the rotated triple
+    /// `(u1, u2, u0)`) with the pdf re-evaluated at each `x1`.
+    fn sample(&self, method: Method, u: [F; 3]) -> [Option<(Sample<F>, F)>; 2] {
+        let mut numbers = [u[0], u[1], u[2], u[1], u[2], u[0]].into_iter();
+        let next = || numbers.next().expect("at most Draw::MAX_NUMBERS numbers");
+        self.setup
+            .draw(method, self.full, next)
+            .vertices
+            .map(|v| v.map(|s| (s, self.pdf(method, s.x1))))
     }
 }
 
@@ -344,7 +300,7 @@ fn compare(errors: &mut Errors, stats: &mut [u64; 2], case: &Case, u: [f32; 3], 
 /// The largest relative change of the f64 pdf when one coordinate of `u`
 /// moves by one f32 ulp (up or down, staying in `[0, 1)`); moves that give
 /// no sample (a θmax or end-point decision) are skipped.
-fn conditioning(s64: &Setup<f64>, tech: usize, vertex: usize, u: [f32; 3], pdf: f64) -> f64 {
+fn conditioning(s64: &Problem<f64>, method: Method, vertex: usize, u: [f32; 3], pdf: f64) -> f64 {
     let mut worst = 0.0f64;
     for k in 0..3 {
         let bits = u[k].to_bits();
@@ -355,7 +311,7 @@ fn conditioning(s64: &Setup<f64>, tech: usize, vertex: usize, u: [f32; 3], pdf: 
         for v in moves.into_iter().flatten() {
             let mut w = u;
             w[k] = v;
-            if let Some((s, _)) = s64.sample(tech, w.map(f64::from))[vertex] {
+            if let Some((s, _)) = s64.sample(method, w.map(f64::from))[vertex] {
                 worst = worst.max((s.pdf / pdf - 1.0).abs());
             }
         }
@@ -366,19 +322,20 @@ fn conditioning(s64: &Setup<f64>, tech: usize, vertex: usize, u: [f32; 3], pdf: 
 /// Runs one case; `stats[0]` gets the triples of uniform random numbers,
 /// `stats[1]` those with at least one special coordinate.
 fn run_case(case: &Case, n: u64, stats: &mut [Stats; 2]) {
-    let s32 = Setup::<f32>::new(case);
-    let s64 = Setup::<f64>::new(case);
+    let s32 = Problem::<f32>::new(case);
+    let s64 = Problem::<f64>::new(case);
     // u0 just below the CDF of θmax: θ just below θmax.
-    let cdf = phase::<f64>(PHASES[case.phase]).cdf(Deflection::from_theta(case.theta_max as f64));
+    let cdf = phase::<f64>(&rounded_to_f32(PHASES[case.phase]))
+        .cdf(Deflection::from_theta(case.theta_max as f64));
     let below_max = ((cdf as f32) - 2f32.powi(-24)).max(0.0);
     let specials = [0.0f32, 2f32.powi(-24), 0.5, 1.0 - 2f32.powi(-24)];
-    let mut rng = SplitMix::new(seed(&[
+    let mut rng = SplitMix64::new(seed(&[
         case.phase as u64,
         case.s.to_bits() as u64,
         case.theta_max.to_bits() as u64,
         case.x0[0].to_bits() as u64,
         case.x0[2].to_bits() as u64,
-        case.tech as u64,
+        case.method as u64,
     ]));
     for _ in 0..n {
         let mut u = [0.0f32; 3];
@@ -399,8 +356,8 @@ fn run_case(case: &Case, n: u64, stats: &mut [Stats; 2]) {
         }
         let stats = &mut stats[special as usize];
         let (a2, b2) = (
-            s32.sample(case.tech, u),
-            s64.sample(case.tech, u.map(|v| v as f64)),
+            s32.sample(case.method, u),
+            s64.sample(case.method, u.map(|v| v as f64)),
         );
         for vertex in 0..2 {
             let (a, b) = (a2[vertex], b2[vertex]);
@@ -418,7 +375,7 @@ fn run_case(case: &Case, n: u64, stats: &mut [Stats; 2]) {
 fn compare_vertex(
     stats: &mut Stats,
     case: &Case,
-    s64: &Setup<f64>,
+    s64: &Problem<f64>,
     vertex: usize,
     u: [f32; 3],
     a: Option<(Sample<f32>, f32)>,
@@ -452,7 +409,7 @@ fn compare_vertex(
             }
             let mut counts = [0; 2];
             compare(&mut stats.pdf, &mut counts, case, u, sa.pdf, sb.pdf);
-            if conditioning(s64, case.tech, vertex, u, sb.pdf) <= COND_LIMIT {
+            if conditioning(s64, case.method, vertex, u, sb.pdf) <= COND_LIMIT {
                 compare(&mut stats.pdf_well, &mut [0; 2], case, u, sa.pdf, sb.pdf);
             } else {
                 stats.ill_conditioned += 1;
@@ -466,7 +423,7 @@ fn compare_vertex(
                 sb.weight,
             );
             let x1 = sa.x1.to_array().map(|v| v as f64);
-            let at_point = s64.pdf(case.tech, glam::DVec3::from_array(x1));
+            let at_point = s64.pdf(case.method, glam::DVec3::from_array(x1));
             compare(&mut stats.pdf_at_point, &mut counts, case, u, *pa, at_point);
             stats.outside_f32_range += counts[0];
             stats.zero_in_one += counts[1];
@@ -485,7 +442,7 @@ fn compare_vertex(
 
 fn cases() -> Vec<Case> {
     let mut out = Vec::new();
-    let mut rng = SplitMix::new(7);
+    let mut rng = SplitMix64::new(7);
     for phase in 0..PHASES.len() {
         for (s_index, &s) in DISTANCES.iter().enumerate() {
             let s = s as f32;
@@ -493,8 +450,8 @@ fn cases() -> Vec<Case> {
                 for geo in 0..GEOMETRIES.len() {
                     let dir = match geo {
                         0 => {
-                            let z = 1.0 - 2.0 * rng.f64();
-                            let phi = std::f64::consts::TAU * rng.f64();
+                            let z = 1.0 - 2.0 * uniform::<f64, _>(&mut rng);
+                            let phi = std::f64::consts::TAU * uniform::<f64, _>(&mut rng);
                             let r = (1.0 - z * z).max(0.0).sqrt();
                             [r * phi.cos(), r * phi.sin(), z]
                         }
@@ -507,7 +464,7 @@ fn cases() -> Vec<Case> {
                         x2[1] + s * dir[1] as f32,
                         x2[2] + s * dir[2] as f32,
                     ];
-                    for tech in 0..TECHS.len() {
+                    for method in Method::ALL {
                         out.push(Case {
                             phase,
                             s_index,
@@ -515,7 +472,7 @@ fn cases() -> Vec<Case> {
                             theta_max,
                             x0,
                             x2,
-                            tech,
+                            method,
                         });
                     }
                 }
@@ -531,7 +488,7 @@ fn main() {
     let started = Instant::now();
     let all = cases();
     // One Stats per (technique, phase, distance, input class).
-    type Key = (usize, usize, usize, usize);
+    type Key = (Method, usize, usize, usize);
     let results: Vec<Vec<(Key, Stats)>> = std::thread::scope(|scope| {
         let handles: Vec<_> = (0..threads)
             .map(|t| {
@@ -542,7 +499,7 @@ fn main() {
                         let mut st: [Stats; 2] = Default::default();
                         run_case(case, per_case, &mut st);
                         for (class, st) in st.into_iter().enumerate() {
-                            out.push(((case.tech, case.phase, case.s_index, class), st));
+                            out.push(((case.method, case.phase, case.s_index, class), st));
                         }
                     }
                     out
@@ -597,7 +554,7 @@ fn main() {
     };
     let classes = ["uniform random u", "u with a special coordinate"];
     writeln!(md, "### By technique and input class\n\n{header}").unwrap();
-    for (t, name) in TECHS.iter().enumerate() {
+    for (t, name) in Method::ALL.into_iter().zip(NAMES) {
         for (c, class) in classes.iter().enumerate() {
             line(
                 &mut md,
@@ -621,7 +578,7 @@ fn main() {
         "\n### By technique and distance s (both input classes)\n\n{header}"
     )
     .unwrap();
-    for (t, name) in TECHS.iter().enumerate() {
+    for (t, name) in Method::ALL.into_iter().zip(NAMES) {
         for (i, s) in DISTANCES.iter().enumerate() {
             line(
                 &mut md,
@@ -631,7 +588,7 @@ fn main() {
         }
     }
     writeln!(md, "\n### By technique and phase function\n\n{header}").unwrap();
-    for (t, name) in TECHS.iter().enumerate() {
+    for (t, name) in Method::ALL.into_iter().zip(NAMES) {
         for (p, spec) in PHASES.iter().enumerate() {
             for (c, class) in ["uniform", "special"].iter().enumerate() {
                 line(
@@ -643,7 +600,7 @@ fn main() {
         }
     }
     writeln!(md, "\n### Worst cases (max relative error)\n").unwrap();
-    for (t, name) in TECHS.iter().enumerate() {
+    for (t, name) in Method::ALL.into_iter().zip(NAMES) {
         for (c, class) in classes.iter().enumerate() {
             let st = sum(&|k| k.0 == t && k.3 == c);
             for (what, e) in [

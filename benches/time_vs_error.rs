@@ -13,9 +13,12 @@
 //! - `equiangular`: a uniform direction from `x2`, equiangular distance;
 //! - `distance`: a uniform direction from `x2`, free flight with σ = σt;
 //! - `mis`: the CLI's, `OmneeMis::recommended`: OMNEE's vertex over θ < π,
-//!   and with probability 0.1 an equiangular vertex behind the cone
+//!   and with probability 0.05 an equiangular vertex behind the cone
 //!   θ ≥ 3π/4 (balance heuristic behind it, OMNEE alone in front); an
 //!   estimate is the sum over both.
+//!
+//! Each estimate is one draw of `omnee::method::Setup`, as a renderer makes
+//! it.
 //!
 //! For each configuration (phase function × τ) and each technique, `REPS`
 //! independent runs of N = 2^8 … 2^`MAX` samples are timed on one thread
@@ -27,8 +30,8 @@
 //! variance for a point light (`1/d1²` near `x0`), so their relMSE is dominated
 //! by rare samples: the efficiency `1/(relMSE · time)` of a technique is the
 //! **median over the sample counts N ≥ 2^12**, and the relMSE at equal time is
-//! read off the measured curve (log-log interpolation; slope −1
-//! extrapolation outside it).
+//! read off the measured curve (log-log interpolation; `–` where the budget
+//! lies outside the measured times, never an extrapolation).
 //!
 //! It also re-measures the per-sample relative variances of MATH.md §6.
 //!
@@ -38,55 +41,31 @@
 
 mod common;
 
-use common::{SplitMix, arg, docs_path, fmt3, loglog, median, seed};
+use common::curve::{Curve, Point};
+use common::{
+    COLORS, ISSUE4_PHASES, NAMES, arg, best_other_single, docs_path, fmt_opt, fmt3, loglog, phase,
+    ratio, seed,
+};
 use cpu_time::ThreadTime;
 use glam::{DVec3, Vec3};
 use omnee::medium::{Homogeneous, Region};
-use omnee::mis::OmneeMis;
-use omnee::phase::{Phase, Spec};
+use omnee::method::{Method, Setup};
+use omnee::phase::Phase;
 use omnee::reference::PointToPoint;
-use omnee::sampling::{Connection, Directions, Distance, Equiangular, Omnee, Sample, Technique};
-use plotters::prelude::*;
+use omnee::rng::SplitMix64;
+use omnee::sampling::{Connection, Directions, uniform};
 use std::fmt::Write as _;
 use std::time::Instant;
 
-/// The phase functions of issue 4 in the CLI's spec syntax.
-const PHASES: [&str; 7] = [
-    "hg:0",
-    "hg:0.5",
-    "hg:0.9",
-    "hg:0.98",
-    "tthg:0.99,-0.44,0.96",
-    "ff:0.0183,1.10",
-    "mie:10",
-];
 /// Optical thicknesses σt·s.
 const TAUS: [f64; 3] = [0.1, 1.0, 3.0];
-/// Technique names, in table order.
-const TECHS: [&str; NT] = ["omnee", "equiangular", "distance", "mis"];
 /// Number of techniques.
-const NT: usize = 4;
-/// The single (non-MIS) techniques, for "best single technique".
-const SINGLE: [usize; 3] = [0, 1, 2];
-/// Plot colours per technique.
-const COLORS: [RGBColor; NT] = [
-    RGBColor(0, 114, 178),
-    RGBColor(213, 94, 0),
-    RGBColor(0, 158, 115),
-    RGBColor(204, 121, 167),
-];
+const NT: usize = Method::ALL.len();
 /// Smallest sample count, log2.
 const MIN_LOG2: u32 = 8;
 /// Sample counts from this log2 on enter the efficiency median (timer
 /// resolution and fixed costs matter below).
 const EFF_LOG2: u32 = 12;
-
-fn phase<F: omnee::Real>(spec: &str) -> Phase<'static, F> {
-    match Spec::<F>::parse(spec).expect("valid spec") {
-        Spec::Analytic(p) => p,
-        Spec::Table { .. } => unreachable!("no tables here"),
-    }
-}
 
 fn problem_f32(tau: f64, sigma_s: f64, theta_max: f32) -> PointToPoint<f32> {
     let c = Connection::new(Vec3::ZERO, Vec3::Z, theta_max).unwrap();
@@ -102,23 +81,33 @@ fn reference(spec: &str, tau: f64, sigma_s: f64, theta_max: f64) -> f64 {
         .integral(&phase::<f64>(spec))
 }
 
+/// The setup of a configuration: `phase` at `x1`, uniform directions from
+/// `x2` in an infinite medium of extinction `sigma_t`.
+fn setup<'p>(phase: &'p Phase<'static, f32>, sigma_t: f64) -> Setup<f32, &'p Phase<'static, f32>> {
+    Setup::new(
+        phase,
+        Directions::Sphere,
+        Region::Everywhere,
+        sigma_t as f32,
+    )
+    .unwrap()
+}
+
 /// Mean and (unbiased) variance of `n` estimates, each the sum of
-/// `f_c · weight` over the vertices `draw` returns for six uniform numbers.
+/// `f_c · weight` over the vertices of one draw of `method`.
 #[inline(never)]
 fn run(
-    draw: impl Fn([f32; 6]) -> [Option<Sample<f32>>; 2],
+    setup: &Setup<f32, &Phase<'static, f32>>,
+    method: Method,
     p: &PointToPoint<f32>,
     n: u64,
-    rng: &mut SplitMix,
-    numbers: usize,
+    rng: &mut SplitMix64,
 ) -> (f64, f64) {
     let (mut sum, mut sum2) = (0.0f64, 0.0f64);
-    let mut u = [0.0f32; 6];
     for _ in 0..n {
-        for x in u.iter_mut().take(numbers) {
-            *x = rng.f32();
-        }
-        let e: f64 = draw(u).iter().flatten().map(|s| p.estimate(s) as f64).sum();
+        let e: f64 = setup
+            .draw(method, p.connection, || uniform(rng))
+            .sum(|s| p.estimate(s) as f64);
         sum += e;
         sum2 += e * e;
     }
@@ -129,87 +118,6 @@ fn run(
         0.0
     };
     (mean, var)
-}
-
-/// A technique's draw: its one vertex from the first three numbers.
-fn single<T: Technique<f32>>(t: &T) -> impl Fn([f32; 6]) -> [Option<Sample<f32>>; 2] + '_ {
-    move |u| [t.sample([u[0], u[1], u[2]]), None]
-}
-
-/// The techniques for one configuration, called by index (static dispatch
-/// inside each arm).
-struct Techniques<'a> {
-    omnee: Omnee<f32, &'a Phase<'static, f32>>,
-    equiangular: Equiangular<f32, &'a Phase<'static, f32>>,
-    distance: Distance<f32, &'a Phase<'static, f32>>,
-}
-
-impl<'a> Techniques<'a> {
-    fn new(p: &'a Phase<'static, f32>, full: Connection<f32>, sigma_t: f32) -> Self {
-        Self {
-            omnee: Omnee::new(full, p),
-            equiangular: Equiangular::new(full, p, Directions::Sphere, Region::Everywhere),
-            distance: Distance::new(full, p, Directions::Sphere, Region::Everywhere, sigma_t)
-                .unwrap(),
-        }
-    }
-
-    fn run(&self, i: usize, p: &PointToPoint<f32>, n: u64, rng: &mut SplitMix) -> (f64, f64) {
-        match i {
-            0 => run(single(&self.omnee), p, n, rng, 3),
-            1 => run(single(&self.equiangular), p, n, rng, 3),
-            2 => run(single(&self.distance), p, n, rng, 3),
-            _ => {
-                let mis = OmneeMis::recommended(self.omnee, &self.equiangular);
-                run(|u| mis.sample(u), p, n, rng, 6)
-            }
-        }
-    }
-}
-
-/// One technique's curve: (N, CPU seconds per run, relMSE) per sample
-/// count, and the wall seconds per run.
-#[derive(Clone, Debug, Default)]
-struct Curve {
-    points: Vec<(u64, f64, f64)>,
-    wall: Vec<f64>,
-}
-
-impl Curve {
-    /// Median over N ≥ 2^EFF_LOG2 of `1/(relMSE · time)`.
-    fn efficiency(&self) -> f64 {
-        let mut e: Vec<f64> = self
-            .points
-            .iter()
-            .filter(|p| p.0 >= 1 << EFF_LOG2)
-            .map(|&(_, t, r)| 1.0 / (r * t))
-            .collect();
-        if e.is_empty() {
-            f64::NAN
-        } else {
-            median(&mut e)
-        }
-    }
-
-    /// relMSE at `budget` seconds, log-log interpolated; slope −1 beyond the ends.
-    fn at_time(&self, budget: f64) -> f64 {
-        let p = &self.points;
-        let (first, last) = (p[0], p[p.len() - 1]);
-        if budget <= first.1 {
-            return first.2 * first.1 / budget;
-        }
-        if budget >= last.1 {
-            return last.2 * last.1 / budget;
-        }
-        for w in p.windows(2) {
-            let ((_, t0, r0), (_, t1, r1)) = (w[0], w[1]);
-            if budget >= t0 && budget <= t1 && t1 > t0 {
-                let f = (budget / t0).ln() / (t1 / t0).ln();
-                return (r0.ln() + f * (r1 / r0).ln()).exp();
-            }
-        }
-        f64::NAN
-    }
 }
 
 struct Row {
@@ -224,7 +132,7 @@ fn measure(spec: &'static str, tau: f64, reps: u64, max_log2: u32) -> Row {
     let reference = reference(spec, tau, sigma_s, std::f64::consts::PI);
     let p = phase::<f32>(spec);
     let problem = problem_f32(tau, sigma_s, std::f32::consts::PI);
-    let techs = Techniques::new(&p, problem.connection, tau as f32);
+    let setup = setup(&p, tau);
     let mut curves: [Curve; NT] = Default::default();
     for log2 in MIN_LOG2..=max_log2 {
         let n = 1u64 << log2;
@@ -232,8 +140,8 @@ fn measure(spec: &'static str, tau: f64, reps: u64, max_log2: u32) -> Row {
         let mut secs = [0.0f64; NT];
         let mut wall = [0.0f64; NT];
         for rep in 0..reps {
-            for i in 0..NT {
-                let mut rng = SplitMix::new(seed(&[
+            for (i, &method) in Method::ALL.iter().enumerate() {
+                let mut rng = SplitMix64::new(seed(&[
                     spec.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
                         (h ^ b as u64).wrapping_mul(0x100_0000_01b3)
                     }),
@@ -243,16 +151,19 @@ fn measure(spec: &'static str, tau: f64, reps: u64, max_log2: u32) -> Row {
                     rep,
                 ]));
                 let (start, cpu) = (Instant::now(), ThreadTime::now());
-                let (mean, _) = techs.run(i, &problem, n, &mut rng);
+                let (mean, _) = run(&setup, method, &problem, n, &mut rng);
                 secs[i] += cpu.elapsed().as_secs_f64();
                 wall[i] += start.elapsed().as_secs_f64();
                 sq[i] += (mean / reference - 1.0).powi(2);
             }
         }
         for (i, c) in curves.iter_mut().enumerate() {
-            c.points
-                .push((n, secs[i] / reps as f64, sq[i] / reps as f64));
-            c.wall.push(wall[i] / reps as f64);
+            c.points.push(Point {
+                count: n,
+                cpu_seconds: secs[i] / reps as f64,
+                wall_seconds: wall[i] / reps as f64,
+                rel_mse: sq[i] / reps as f64,
+            });
         }
     }
     Row {
@@ -296,21 +207,20 @@ fn math_table(out: &mut String) {
             reference(spec, tau, 0.2, theta_max),
             reference(spec, tau, 0.2, std::f64::consts::PI),
         );
-        let omnee = Omnee::new(fwd.connection, &p);
-        let eq = Equiangular::new(full.connection, &p, Directions::Sphere, Region::Everywhere);
+        let setup = setup(&p, tau);
         let (m_o, v_o) = run(
-            single(&omnee),
+            &setup,
+            Method::Omnee,
             &fwd,
             n,
-            &mut SplitMix::new(seed(&[k as u64, 1])),
-            3,
+            &mut SplitMix64::new(seed(&[k as u64, 1])),
         );
         let (m_e, v_e) = run(
-            single(&eq),
+            &setup,
+            Method::Equiangular,
             &full,
             n,
-            &mut SplitMix::new(seed(&[k as u64, 2])),
-            3,
+            &mut SplitMix64::new(seed(&[k as u64, 2])),
         );
         writeln!(
             out,
@@ -332,15 +242,11 @@ fn plot(rows: &[Row], path: &std::path::Path) -> Result<(), Box<dyn std::error::
         .iter()
         .map(|row| loglog::Panel {
             caption: format!("{}, τ = {}", row.spec, row.tau),
-            curves: row
-                .curves
-                .iter()
-                .map(|c| c.points.iter().map(|p| (p.1, p.2)).collect())
-                .collect(),
+            curves: row.curves.iter().map(Curve::time_error).collect(),
         })
         .collect();
     let layout = loglog::Layout {
-        names: &TECHS,
+        names: &NAMES,
         colors: &COLORS,
         cols: TAUS.len(),
         panel: (330, 250),
@@ -370,7 +276,7 @@ fn main() {
     math_table(&mut md);
 
     let mut rows = Vec::new();
-    for spec in PHASES {
+    for spec in ISSUE4_PHASES {
         for tau in TAUS {
             let row = measure(spec, tau, reps, max_log2);
             eprintln!(
@@ -378,7 +284,7 @@ fn main() {
                 row.reference,
                 row.curves
                     .iter()
-                    .map(|c| c.efficiency())
+                    .map(|c| c.efficiency(1 << EFF_LOG2))
                     .collect::<Vec<_>>(),
                 started.elapsed().as_secs_f64()
             );
@@ -390,7 +296,8 @@ fn main() {
         md,
         "\n### relMSE at equal time ({} ms of one core's CPU time)\n\n\
          Read off each technique's measured relMSE-against-time curve ({reps} independent runs per N, \
-         N = 2^{MIN_LOG2} … 2^{max_log2}, log-log interpolation). ns/sample is the CPU time per sample at the largest N.\n",
+         N = 2^{MIN_LOG2} … 2^{max_log2}, log-log interpolation; – where the budget lies outside the measured times). \
+         ns/sample is the CPU time per sample at the largest N.\n",
         budget * 1e3
     )
     .unwrap();
@@ -403,7 +310,7 @@ fn main() {
     writeln!(
         eff_md,
         "\n### Efficiency 1/(relMSE·time), relative\n\n\
-         Efficiency is the median over N = 2^{EFF_LOG2} … 2^{max_log2} of 1/(relMSE·CPU seconds). \
+         Efficiency is the median over N = 2^{EFF_LOG2} … 2^{max_log2} of 1/(relMSE·CPU seconds) (– without such N). \
          `÷ eq.`: relative to equiangular; `÷ best single`: relative to the best of omnee, equiangular, distance \
          other than itself.\n\n\
          | phase | σt·s | omnee ÷ eq. | omnee ÷ best other single | distance ÷ eq. | mis ÷ eq. | mis ÷ best single |\n|---|---|---|---|---|---|---|"
@@ -411,28 +318,23 @@ fn main() {
     .unwrap();
     let mut json = Vec::new();
     for row in &rows {
-        let eff: Vec<f64> = row.curves.iter().map(|c| c.efficiency()).collect();
-        let best_single = |i: usize| {
-            SINGLE
-                .iter()
-                .filter(|&&j| j != i)
-                .map(|&j| eff[j])
-                .fold(0.0f64, f64::max)
-        };
-        let ns = |i: usize| {
-            let &(n, t, _) = row.curves[i].points.last().unwrap();
-            t * 1e9 / n as f64
-        };
+        let eff: Vec<Option<f64>> = row
+            .curves
+            .iter()
+            .map(|c| c.efficiency(1 << EFF_LOG2))
+            .collect();
+        let best_single = |i: usize| best_other_single(&eff, i);
+        let ns = |i: usize| row.curves[i].seconds_per_sample() * 1e9;
         writeln!(
             md,
             "| `{}` | {} | {:.5e} | {} | {} | {} | {} | {:.0} / {:.0} / {:.0} / {:.0} |",
             row.spec,
             row.tau,
             row.reference,
-            fmt3(row.curves[0].at_time(budget)),
-            fmt3(row.curves[1].at_time(budget)),
-            fmt3(row.curves[2].at_time(budget)),
-            fmt3(row.curves[3].at_time(budget)),
+            fmt_opt(row.curves[0].at_time(budget)),
+            fmt_opt(row.curves[1].at_time(budget)),
+            fmt_opt(row.curves[2].at_time(budget)),
+            fmt_opt(row.curves[3].at_time(budget)),
             ns(0),
             ns(1),
             ns(2),
@@ -444,22 +346,22 @@ fn main() {
             "| `{}` | {} | {} | {} | {} | {} | {} |",
             row.spec,
             row.tau,
-            fmt3(eff[0] / eff[1]),
-            fmt3(eff[0] / best_single(0)),
-            fmt3(eff[2] / eff[1]),
-            fmt3(eff[3] / eff[1]),
-            fmt3(eff[3] / best_single(3)),
+            fmt_opt(ratio(eff[0], eff[1])),
+            fmt_opt(ratio(eff[0], best_single(0))),
+            fmt_opt(ratio(eff[2], eff[1])),
+            fmt_opt(ratio(eff[3], eff[1])),
+            fmt_opt(ratio(eff[3], best_single(3))),
         )
         .unwrap();
         let curves: Vec<serde_json::Value> = row
             .curves
             .iter()
-            .zip(TECHS)
+            .zip(NAMES)
             .map(|(c, name)| {
                 serde_json::json!({
                     "technique": name,
-                    "efficiency": c.efficiency(),
-                    "points": c.points.iter().zip(&c.wall).map(|(&(n, t, r), &w)| serde_json::json!({"n": n, "cpu_seconds": t, "wall_seconds": w, "rel_mse": r})).collect::<Vec<_>>(),
+                    "efficiency": c.efficiency(1 << EFF_LOG2),
+                    "points": c.points_json("n"),
                 })
             })
             .collect();

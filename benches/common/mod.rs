@@ -1,57 +1,87 @@
 //! Helpers shared by the harness-less benchmark binaries (`time_vs_error`,
-//! `slab_time_vs_error`, `stress`): a small seeded generator, argument
-//! parsing, output paths, and the log-log figures ([`loglog`]).
+//! `slab_time_vs_error`, `stress`): seeds, argument parsing, output paths,
+//! the phase functions and techniques they compare, the measured
+//! time-against-error curves ([`curve`]) and their log-log figures
+//! ([`loglog`]).
 #![allow(dead_code)] // each bench binary uses a different subset
 
+pub mod curve;
 pub mod loglog;
 
+use omnee::Real;
+use omnee::method::Method;
+use omnee::phase::{Phase, Spec};
+use omnee::rng::mix;
+use plotters::style::RGBColor;
 use std::path::PathBuf;
 
-/// SplitMix64 (Steele, Lea, Flood 2014): a fast, seedable 64-bit generator,
-/// plenty for Monte Carlo error measurements (not for the statistics tests).
-#[derive(Clone, Debug)]
-pub struct SplitMix(pub u64);
+/// The phase functions of issue 4, in the CLI's spec syntax: HG from
+/// isotropic to strongly forward, a two-term HG with a backward lobe, an
+/// ocean Fournier–Forand and a cloud-droplet Mie.
+pub const ISSUE4_PHASES: [&str; 7] = [
+    "hg:0",
+    "hg:0.5",
+    "hg:0.9",
+    "hg:0.98",
+    "tthg:0.99,-0.44,0.96",
+    "ff:0.0183,1.10",
+    "mie:10",
+];
 
-impl SplitMix {
-    /// A generator whose stream is decorrelated from its neighbours' by
-    /// hashing the seed once.
-    pub fn new(seed: u64) -> Self {
-        let mut g = SplitMix(seed ^ 0x6a09_e667_f3bc_c909);
-        g.next_u64();
-        g
-    }
+/// The techniques' names, in the order of [`Method::ALL`] (tables, plots,
+/// the renderer's `--technique`).
+pub const NAMES: [&str; 4] = [
+    Method::ALL[0].name(),
+    Method::ALL[1].name(),
+    Method::ALL[2].name(),
+    Method::ALL[3].name(),
+];
 
-    /// The next 64 random bits.
-    #[inline]
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
+/// The plot colour of each technique, in the order of [`Method::ALL`]
+/// (Okabe–Ito: blue, vermillion, bluish green, reddish purple).
+pub const COLORS: [RGBColor; 4] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+];
 
-    /// A uniform f32 in `[0, 1)` from the top 24 bits.
-    #[inline]
-    pub fn f32(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
-    }
+/// The single techniques (not MIS), for "best single technique" columns.
+pub fn single(method: Method) -> bool {
+    method != Method::Mis
+}
 
-    /// A uniform f64 in `[0, 1)` from the top 53 bits.
-    #[inline]
-    pub fn f64(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+/// The analytic phase function of `spec` in precision `F` (panics on an
+/// invalid spec or a table: the benches' specs are constants).
+pub fn phase<F: Real>(spec: &str) -> Phase<'static, F> {
+    match Spec::<F>::parse(spec).expect("valid spec") {
+        Spec::Analytic(p) => p,
+        Spec::Table { .. } => panic!("{spec}: a table, not an analytic phase function"),
     }
 }
 
-/// Mixes several integers into one seed.
-pub fn seed(parts: &[u64]) -> u64 {
-    let mut g = SplitMix(0x243f_6a88_85a3_08d3);
-    for &p in parts {
-        g.0 ^= p;
-        g.next_u64();
+/// `spec` with every parameter rounded to f32 (`hg:0.9` → `hg:0.8999999761581421`),
+/// so that an f64 instance has exactly the parameters of the f32 one.
+pub fn rounded_to_f32(spec: &str) -> String {
+    match spec.split_once(':') {
+        None => spec.to_string(),
+        Some((name, args)) => {
+            let args: Vec<String> = args
+                .split(',')
+                .map(|a| ((a.parse::<f64>().expect("number") as f32) as f64).to_string())
+                .collect();
+            format!("{name}:{}", args.join(","))
+        }
     }
-    g.next_u64()
+}
+
+/// One seed from several integers: each hashed into the running value with
+/// the SplitMix64 finaliser [`mix`], so distinct tuples give unrelated
+/// seeds (for `SplitMix64::new`).
+pub fn seed(parts: &[u64]) -> u64 {
+    parts
+        .iter()
+        .fold(0x243f_6a88_85a3_08d3, |h, &p| mix(h ^ mix(p)))
 }
 
 /// The value of `--name VALUE` on the command line (cargo bench passes
@@ -106,4 +136,26 @@ pub fn fmt3(x: f64) -> String {
     } else {
         format!("{x:.2e}")
     }
+}
+
+/// [`fmt3`] of a value that may not exist: `–` for `None` (a table says why).
+pub fn fmt_opt(x: Option<f64>) -> String {
+    x.map_or_else(|| "–".into(), fmt3)
+}
+
+/// `a / b` where both exist.
+pub fn ratio(a: Option<f64>, b: Option<f64>) -> Option<f64> {
+    Some(a? / b?)
+}
+
+/// The best efficiency among the single techniques other than `Method::ALL[i]`
+/// (`eff` in the order of [`Method::ALL`]; those without one left out).
+pub fn best_other_single(eff: &[Option<f64>], i: usize) -> Option<f64> {
+    Method::ALL
+        .iter()
+        .zip(eff)
+        .enumerate()
+        .filter(|&(j, (&m, _))| j != i && single(m))
+        .filter_map(|(_, (_, &e))| e)
+        .reduce(f64::max)
 }

@@ -1,18 +1,22 @@
 //! Arbitrary floats into every phase function and every technique's
-//! sample / pdf / invert, in f32 and f64: no panic, and every returned
-//! density, weight, point and uniform number is finite (densities and
-//! weights ≥ 0, uniforms in [0, 1], angles in [0, π]).
+//! sample / pdf / invert, and every method's draw through the front ends'
+//! `Setup`, in f32 and f64: no panic, and every returned density, weight,
+//! point and uniform number is finite (densities and weights ≥ 0, uniforms
+//! in [0, 1], angles in [0, π]).
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 use omnee_core::{Real, Vector};
 use omnee_core::medium::Region;
+use omnee_core::method::{Method, Setup};
 use omnee_core::mis::{Heuristic, OmneeMis, OneSample, multi_sample_weight};
 use omnee_core::phase::{
     Deflection, Draine, FournierForand, HenyeyGreenstein, Isotropic, Mie, Phase, PhaseFunction,
     Rayleigh, TwoTermHg,
 };
-use omnee_core::sampling::{Connection, Directions, Distance, Equiangular, Omnee, Technique};
+use omnee_core::sampling::{
+    Connection, Directions, Distance, Draw, Equiangular, Omnee, Technique,
+};
 
 /// Reads the input as little-endian f64s (cycling, so short inputs work).
 struct Floats<'a> {
@@ -110,8 +114,7 @@ fn check_technique<F: Real>(t: &dyn Technique<F>, name: &str, f: &mut Floats) {
 /// OmneeMis's pair of vertices from six fuzzed numbers, and its density at
 /// them and at a fuzzed point: finite, non-negative.
 fn check_omnee_mis<F: Real, P: PhaseFunction<F>>(mis: &OmneeMis<'_, F, P>, f: &mut Floats) {
-    let u = [(); 6].map(|_| F::from_f64(f.next()));
-    for s in mis.sample(u).iter().flatten() {
+    for s in mis.draw(|| F::from_f64(f.next())).samples() {
         assert!(s.x1.is_finite() && ok(s.pdf) && ok(s.weight), "OmneeMis: {s:?}");
         let p = mis.pdf(s.x1);
         assert!(ok(p), "OmneeMis: pdf(sample) = {p:?}");
@@ -165,6 +168,29 @@ fn run<F: Real>(f: &mut Floats) {
     for i in 0..3 {
         let w = multi_sample_weight(&techniques, &counts, i, x1, techniques[i].pdf(x1), heuristic);
         assert!(w >= F::ZERO && w <= F::ONE, "multi-sample weight {w:?}");
+    }
+    check_methods(&p, c, dirs, region, f);
+}
+
+/// Every method's draw through `Setup` with a fuzzed σt (refused, or a
+/// setup whose draws take at most six numbers and return finite vertices
+/// with finite, non-negative densities).
+fn check_methods<F: Real>(
+    p: &Phase<'static, F>,
+    c: Connection<F>,
+    dirs: Directions<F>,
+    region: Region<F>,
+    f: &mut Floats,
+) {
+    let Ok(setup) = Setup::new(p, dirs, region, F::from_f64(f.next())) else { return };
+    for method in Method::ALL {
+        let draw = setup.draw(method, c, || F::from_f64(f.next()));
+        assert!(draw.taken <= Draw::<F>::MAX_NUMBERS, "{method}: {draw:?}");
+        for s in draw.samples() {
+            assert!(s.x1.is_finite() && ok(s.pdf) && ok(s.weight), "{method}: {s:?}");
+            let pdf = setup.pdf(method, c, s.x1);
+            assert!(ok(pdf), "{method}: pdf(sample) = {pdf:?}");
+        }
     }
 }
 

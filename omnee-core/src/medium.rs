@@ -49,7 +49,13 @@ impl<F: Real> Homogeneous<F> {
     /// Transmittance over a distance `d`: `T(d) = exp(−σt d)`.
     #[inline]
     pub fn transmittance(&self, d: F) -> F {
-        (-self.sigma_t() * d).exp()
+        let sigma_t = self.sigma_t();
+        // Without extinction T = 1 at any distance (exp(−0 · ∞) would be NaN).
+        if sigma_t > F::ZERO {
+            (-sigma_t * d).exp()
+        } else {
+            F::ONE
+        }
     }
 }
 

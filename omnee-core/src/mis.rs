@@ -7,7 +7,7 @@
 
 use crate::phase::{Deflection, PhaseFunction};
 use crate::real::Real;
-use crate::sampling::{Omnee, Sample, Technique, saturate};
+use crate::sampling::{Draw, Omnee, Sample, Technique, saturate};
 
 /// The MIS heuristic.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -289,6 +289,20 @@ impl<'a, F: Real, P: PhaseFunction<F>> OmneeMis<'a, F, P> {
             None
         };
         [omnee, companion]
+    }
+
+    /// One estimate's vertices as a [`Draw`], the numbers pulled from `next`:
+    /// [`Self::sample`] of six, OMNEE's three and then the companion's
+    /// (`u[3] < c` decides whether it is drawn). The draw records how many
+    /// it took, so taking the companion's numbers only when it is drawn
+    /// would change no caller.
+    pub fn draw(&self, mut next: impl FnMut() -> F) -> Draw<F> {
+        let u = [next(), next(), next(), next(), next(), next()];
+        Draw {
+            u,
+            taken: 6,
+            vertices: self.sample(u),
+        }
     }
 
     /// A vertex of the technique drawn `count` times on average, with the

@@ -95,7 +95,9 @@ impl<F: Real> PointToPoint<F> {
         let s: f64 = cast(axis.s);
         let sigma_t: f64 = cast(self.medium.sigma_t());
         let sigma_s: f64 = cast(self.medium.sigma_s());
-        let theta_max: f64 = cast(self.connection.theta_max);
+        // The f32 θmax = π rounds up (3.14159274 > π): the quadrature stops at
+        // the true π, where the triangle closes.
+        let theta_max: f64 = cast::<F, f64>(self.connection.theta_max).min(core::f64::consts::PI);
         let gamma = self.receiver_normal.map(|n| {
             let n = cast_vec::<F, f64>(n);
             let to_light = -cast_vec::<F, f64>(axis.e);
@@ -241,6 +243,34 @@ mod tests {
                 "beta {beta} gamma {gamma}"
             );
         }
+    }
+
+    #[test]
+    fn an_f32_problem_with_theta_max_pi_integrates_up_to_the_true_pi() {
+        // f32's π is 3.14159274 > π; past π the triangle does not close and
+        // a thin medium gave a non-finite reference.
+        let c =
+            Connection::<f32>::new(glam::Vec3::ZERO, glam::Vec3::Z, core::f32::consts::PI).unwrap();
+        let p32 = PointToPoint::new(c, Homogeneous::new(1e-6f32, 0.0).unwrap(), None).unwrap();
+        let got = p32.integral(&Isotropic);
+        let c64 = Connection::new(DVec3::ZERO, DVec3::Z, core::f64::consts::PI).unwrap();
+        let p64 =
+            PointToPoint::new(c64, Homogeneous::new(1e-6f32 as f64, 0.0).unwrap(), None).unwrap();
+        let want = p64.integral(&Isotropic);
+        assert!(
+            got.is_finite() && (got / want - 1.0).abs() < 1e-9,
+            "{got} vs {want}"
+        );
+    }
+
+    #[test]
+    fn f_c_without_extinction_is_finite_at_any_distance() {
+        // σt = 0 and d1 + d2 = ∞ in f32: T = 1, not exp(−0 · ∞) = NaN.
+        let c = Connection::<f32>::new(glam::Vec3::ZERO, glam::Vec3::Z, 1.0).unwrap();
+        let p = PointToPoint::new(c, Homogeneous::new(0.0f32, 0.0).unwrap(), None).unwrap();
+        assert_eq!(p.f_c(glam::Vec3::splat(3e38)), 0.0);
+        let p = PointToPoint::new(c, Homogeneous::new(0.5f32, 0.0).unwrap(), None).unwrap();
+        assert_eq!(p.f_c(glam::Vec3::splat(3e38)), 0.0);
     }
 
     #[test]

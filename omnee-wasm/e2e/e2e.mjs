@@ -77,7 +77,9 @@ try {
   const got = await page.evaluate(async (c) => {
     const m = await import('./pkg/omnee_wasm.js');
     const demo = (spec, x0, x2, k) => new m.Demo(spec, x0[0], x0[1], x2[0], x2[1], k[0], k[1], k[2], c.SEED);
-    const estimates = (d) => [0, 1, 2].flatMap((t) => { const e = d.estimate(t); return [e.count, e.mean, e.stdError]; });
+    // The fixture's order of techniques (demo::METHODS in the Rust sources).
+    const names = ['omnee', 'equiangular', 'mis'];
+    const estimates = (d) => names.flatMap((t) => { const e = d.estimate(t); return [e.count, e.mean, e.stdError]; });
     const a = demo(c.A_SPEC, c.A_X0, c.A_X2, c.A_MEDIUM);
     const b = demo(c.B_SPEC, c.B_X0, c.B_X2, c.B_MEDIUM);
     a.run(c.RUN);
@@ -86,7 +88,7 @@ try {
     const [x0, x2, theta, xi] = c.WATER;
     const w = m.waterlevel(x0[0], x0[1], x2[0], x2[1], theta, xi);
     const values = [[a.reference], estimates(a), [b.reference], estimates(b),
-      ...[0, 1, 2].map((t) => Array.from(a.cloud(t, c.CLOUD, 9))),
+      ...names.map((t) => Array.from(a.cloud(t, c.CLOUD, 9))),
       Array.from(m.histogram(spec, n, bins, hi, 11)),
       ['x1x', 'x1y', 'theta', 'alpha', 'beta', 'xi', 't', 's', 'd1', 'd2', 'radius', 'cx', 'cy'].map((k) => w[k]),
       [m.quantile(c.B_SPEC, 0.9)]];
@@ -105,6 +107,24 @@ try {
   });
   const count = wanted.reduce((n, v) => n + v.length, 0);
   check(differ.length === 0, `the optimised module reproduces the ${count} native fixture values to 1e-6${differ.length ? `: ${differ.slice(0, 5).join('; ')}` : ''}`);
+
+  // Techniques by name: the page's rows are the module's names, and any other name is refused
+  // with an Error that lists them.
+  const names = await page.evaluate(async () => {
+    const m = await import('./pkg/omnee_wasm.js');
+    const d = new m.Demo('iso', 0, 0, 1, 0, 0.1, 0.1, Math.PI, 1);
+    const refused = (name) => { try { d.estimate(name); return ''; } catch (e) { return e.message; } };
+    const result = { page: window.omnee.techniques, accepted: window.omnee.techniques.map(refused),
+      distance: refused('distance'), index: refused(0) };
+    d.free();
+    return result;
+  });
+  check(names.page.join() === 'omnee,equiangular,mis' && names.accepted.every((e) => e === ''),
+    `the page's techniques ${names.page.join(', ')} are the module's`);
+  const allowed = 'syntax error in technique: unknown name; allowed: omnee, equiangular, mis';
+  check(names.distance === allowed && names.index === allowed, `other names are refused: "${names.distance}"`);
+  const cloudMenu = await page.evaluate(() => [...document.querySelectorAll('#cloud option')].map((o) => o.value).join());
+  check(cloudMenu === 'omnee,equiangular,mis,', `the cloud menu lists the techniques and none (${cloudMenu})`);
 
   // The waterlevel: t is the talk's formula of θ and ξ.
   const talk = (theta, xi) => Math.cos(theta - xi * theta) * Math.sin(xi * theta) / Math.sin(theta);
@@ -142,21 +162,26 @@ try {
   check((await page.locator('#error').textContent()) === '', 'a valid spec clears the error');
 
   // Live convergence against the quadrature reference (θmax = π, σs = 0.2, σa = 0.05).
-  await page.waitForFunction(() => window.omnee.state.demo.estimate(0).count >= 2e6, null, { timeout: 60000 });
+  await page.waitForFunction(() => window.omnee.state.demo.estimate('omnee').count >= 2e6, null, { timeout: 60000 });
   const est = await page.evaluate(() => {
     const d = window.omnee.state.demo;
-    return { reference: d.reference, e: [0, 1, 2].map((t) => { const e = d.estimate(t); return { n: e.count, mean: e.mean, se: e.stdError, rel: e.relativeError }; }) };
+    const e = Object.fromEntries(window.omnee.techniques.map((t) => {
+      const e = d.estimate(t);
+      return [t, { n: e.count, mean: e.mean, se: e.stdError, rel: e.relativeError }];
+    }));
+    return { reference: d.reference, e };
   });
   const shown = await num('reference');
   check(Math.abs(shown - est.reference) <= 1e-6 * est.reference, `the page shows the reference ${shown}`);
-  for (const [t, name] of [[0, 'OMNEE'], [2, 'MIS']]) {
+  for (const [t, name] of [['omnee', 'OMNEE'], ['mis', 'MIS']]) {
     const { n, mean, se, rel } = est.e[t];
     // OMNEE and MIS estimates are bounded here; 5 standard errors fail with probability < 1e-6.
     check(Math.abs(mean - est.reference) < 5 * se && rel < 0.01,
       `${name}: ${mean.toPrecision(6)} ± ${se.toExponential(2)} after ${n} samples vs reference ${est.reference.toPrecision(7)} (rel. error ${rel.toExponential(2)})`);
   }
-  check(Number.isFinite(est.e[1].mean) && est.e[1].n === est.e[0].n, `equiangular ran as many samples (${est.e[1].n}), estimate ${est.e[1].mean.toPrecision(4)}`);
-  check(est.e[0].se < est.e[1].se, `OMNEE's standard error ${est.e[0].se.toExponential(2)} < equiangular's ${est.e[1].se.toExponential(2)} for HG g = 0.9`);
+  const [omnee, equiangular] = [est.e.omnee, est.e.equiangular];
+  check(Number.isFinite(equiangular.mean) && equiangular.n === omnee.n, `equiangular ran as many samples (${equiangular.n}), estimate ${equiangular.mean.toPrecision(4)}`);
+  check(omnee.se < equiangular.se, `OMNEE's standard error ${omnee.se.toExponential(2)} < equiangular's ${equiangular.se.toExponential(2)} for HG g = 0.9`);
 
   // Throughput: one wasm call of 3·10^5 samples (10^5 per technique), best of 20 calls:
   // the 2 cores are shared with builds, and the best call is the one that had a core.

@@ -1,7 +1,7 @@
 //! The JavaScript interface: thin wrappers over [`crate::demo`] that turn every
 //! invalid input into a thrown `Error` (never a trap).
 
-use crate::demo::{self, Method, Problem};
+use crate::demo::{self, Problem};
 use wasm_bindgen::prelude::*;
 
 #[wasm_bindgen(inline_js = "
@@ -124,8 +124,50 @@ fn js(e: omnee_core::Error) -> JsValue {
     }
 }
 
+pub use technique::Technique;
+
+/// The string enum on its own: wasm-bindgen adds an undocumented variant
+/// for strings that are none of the names, and an undocumented
+/// `from_js_value`, which only this module excuses from `missing_docs`.
+#[allow(missing_docs)]
+mod technique {
+    use omnee_core::method::Method;
+    use wasm_bindgen::prelude::*;
+
+    /// A technique the demo compares, by the core's name ([`Method::name`]):
+    /// in JavaScript the strings `"omnee"`, `"equiangular"` and `"mis"`
+    /// (TypeScript: `type Technique = "omnee" | "equiangular" | "mis"`). Any
+    /// other string is refused with an `Error` that lists these.
+    #[wasm_bindgen]
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    pub enum Technique {
+        /// [`Method::Omnee`].
+        Omnee = "omnee",
+        /// [`Method::Equiangular`].
+        Equiangular = "equiangular",
+        /// [`Method::Mis`].
+        Mis = "mis",
+    }
+
+    impl Technique {
+        /// The core's method of this name (an unknown string from JavaScript
+        /// is an error listing the allowed names).
+        pub fn method(self) -> Result<Method, omnee_core::Error> {
+            match self {
+                Technique::Omnee => Ok(Method::Omnee),
+                Technique::Equiangular => Ok(Method::Equiangular),
+                Technique::Mis => Ok(Method::Mis),
+                _ => Err(omnee_core::Error::Syntax {
+                    field: "technique",
+                    reason: "unknown name; allowed: omnee, equiangular, mis",
+                }),
+            }
+        }
+    }
+}
+
 /// The point-to-point integral in the demo plane and its running estimates by
-/// OMNEE (technique 0), equiangular sampling (1) and MIS of both (2).
+/// OMNEE, equiangular sampling and MIS of both ([`Technique`]).
 #[wasm_bindgen]
 pub struct Demo {
     inner: Problem,
@@ -176,11 +218,15 @@ impl Demo {
         self.inner.run(n).map_err(js)
     }
 
-    /// The running estimate of `technique` (0 OMNEE, 1 equiangular, 2 MIS),
-    /// an `Estimate` object (`count`, `mean`, `stdError`, `relativeError`).
+    /// The running estimate of `technique` (`"omnee"`, `"equiangular"`,
+    /// `"mis"`), an `Estimate` object (`count`, `mean`, `stdError`,
+    /// `relativeError`).
     #[wasm_bindgen(unchecked_return_type = "Estimate")]
-    pub fn estimate(&self, technique: u32) -> Result<JsValue, JsValue> {
-        let stats = self.inner.stats(Method::from_index(technique).map_err(js)?);
+    pub fn estimate(&self, technique: Technique) -> Result<JsValue, JsValue> {
+        let stats = technique
+            .method()
+            .and_then(|m| self.inner.stats(m))
+            .map_err(js)?;
         Ok(estimate(
             stats.count() as f64,
             stats.mean(),
@@ -192,8 +238,8 @@ impl Demo {
     /// `n` (1 ..= 2²⁰) samples of `technique` drawn from generator `seed`,
     /// rotated into the plane about the axis: `[x, y, estimate, …]`.
     #[wasm_bindgen(unchecked_return_type = "Float32Array")]
-    pub fn cloud(&self, technique: u32, n: u32, seed: u32) -> Result<JsValue, JsValue> {
-        let method = Method::from_index(technique).map_err(js)?;
+    pub fn cloud(&self, technique: Technique, n: u32, seed: u32) -> Result<JsValue, JsValue> {
+        let method = technique.method().map_err(js)?;
         Ok(f32s(&self.inner.cloud(method, n, seed).map_err(js)?))
     }
 

@@ -14,11 +14,12 @@ use alloc::vec::Vec;
 use omnee_core::Error;
 use omnee_core::circumcircle::{Angles, circumradius, fractional_distance, side_lengths};
 use omnee_core::medium::{Homogeneous, Region};
+use omnee_core::method::Method;
 use omnee_core::mis::OmneeMis;
 use omnee_core::phase::{Deflection, PhaseFunction};
 use omnee_core::real::{Real, Vector};
 use omnee_core::reference::PointToPoint;
-use omnee_core::sampling::{Connection, Directions, Equiangular, Omnee, Sample, Technique};
+use omnee_core::sampling::{Connection, Directions, Draw, Equiangular, Omnee, Sample, Technique};
 
 /// The precision of sampling: f32, a renderer's (references are f64). It was
 /// 1.7× faster in the browser than f64 sampling; f64 makes the module smaller
@@ -43,32 +44,30 @@ pub const MAX_BINS: u32 = 4096;
 /// `∝ δ²/(σt s)` with it: below the Monte Carlo error bars the demo shows.
 pub const REFERENCE_THETA_MAX: f64 = core::f64::consts::PI - 1e-4;
 
-/// The three estimators the demo compares.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Method {
-    /// OMNEE over the whole restriction θ < θmax.
-    Omnee = 0,
-    /// Equiangular sampling along uniformly distributed rays from `x2`.
-    Equiangular = 1,
-    /// The core's recommended MIS, [`OmneeMis::recommended`] (the CLI's
-    /// `mis`): OMNEE's vertex over the whole range θ < θmax, and with
-    /// probability 0.05 an equiangular vertex behind the cone θ ≥ 3π/4
-    /// (balance heuristic there, OMNEE alone in front of it).
-    Mis = 2,
-}
+/// The techniques the demo compares, in the order of its statistics and of
+/// its generators' streams: the core's [`Method`]s but distance sampling
+/// (whose weight grows like 1/d1² near the demo's point light: infinite
+/// variance, nothing to watch converge).
+///
+/// - [`Method::Omnee`]: OMNEE over the whole restriction θ < θmax;
+/// - [`Method::Equiangular`]: equiangular sampling along uniformly
+///   distributed rays from `x2`;
+/// - [`Method::Mis`]: the core's recommended MIS (the CLI's `mis`): OMNEE's
+///   vertex over θ < θmax, and with probability 0.05 an equiangular vertex
+///   behind the cone θ ≥ 3π/4 (balance heuristic there, OMNEE alone in front
+///   of it).
+pub const METHODS: [Method; 3] = [Method::Omnee, Method::Equiangular, Method::Mis];
 
-impl Method {
-    /// All methods, in index order.
-    pub const ALL: [Method; 3] = [Method::Omnee, Method::Equiangular, Method::Mis];
-
-    /// The method with index `i` (0, 1, 2).
-    pub fn from_index(i: u32) -> Result<Self, Error> {
-        Self::ALL.get(i as usize).copied().ok_or(Error::OutOfRange {
+/// The position of `method` in [`METHODS`]; an error naming the allowed
+/// ones for distance sampling.
+pub fn slot(method: Method) -> Result<usize, Error> {
+    METHODS
+        .iter()
+        .position(|&m| m == method)
+        .ok_or(Error::Syntax {
             field: "technique",
-            value: f64::from(i),
-            allowed: "0 (OMNEE), 1 (equiangular), 2 (MIS)",
+            reason: "not in the demo; allowed: omnee, equiangular, mis",
         })
-    }
 }
 
 /// Mean and variance of a stream of estimates (Welford's update).
@@ -127,7 +126,7 @@ fn plane_point(p: [f64; 2]) -> Vec3 {
 }
 
 /// The point-to-point problem of `omnee_core::reference` in the demo plane,
-/// with running estimates of its integral by the three [`Method`]s.
+/// with running estimates of its integral by the [`METHODS`].
 #[derive(Clone, Debug)]
 pub struct Problem {
     phase: Analytic<S>,
@@ -175,8 +174,9 @@ impl Problem {
         })
     }
 
+    /// One generator stream per method, `1 + slot`.
     fn fresh_rngs(seed: u32) -> [Pcg32; 3] {
-        Method::ALL.map(|m| Pcg32::new(u64::from(seed), 1 + m as u64))
+        core::array::from_fn(|i| Pcg32::new(u64::from(seed), 1 + i as u64))
     }
 
     /// The quadrature reference value of the integral (f64).
@@ -184,9 +184,9 @@ impl Problem {
         self.reference
     }
 
-    /// The running statistics of `method`.
-    pub fn stats(&self, method: Method) -> Running {
-        self.stats[method as usize]
+    /// The running statistics of `method` (one of [`METHODS`]).
+    pub fn stats(&self, method: Method) -> Result<Running, Error> {
+        Ok(self.stats[slot(method)?])
     }
 
     /// Forgets all estimates and restarts the generators from the seed.
@@ -195,83 +195,100 @@ impl Problem {
         self.stats = [Running::default(); 3];
     }
 
-    /// Calls `f` with the draws of `method`. One call through `&dyn Draws`
-    /// (not one copy of `f` per method): the dynamic call per draw costs
-    /// little next to the draw, and each sampling loop is in the module once.
-    fn with<R>(&self, method: Method, f: impl FnOnce(&dyn Draws) -> R) -> R {
-        let connection = self.problem.connection;
-        let omnee = NoInverse(Omnee::new(connection, &self.phase));
-        let equiangular = NoInverse(Equiangular::new(
-            connection,
-            &self.phase,
-            Directions::Sphere,
-            Region::Everywhere,
-        ));
-        match method {
-            Method::Omnee => f(&One(&omnee)),
-            Method::Equiangular => f(&One(&equiangular)),
-            Method::Mis => f(&OmneeMis::recommended(
-                Omnee::new(connection, &self.phase),
-                &equiangular,
-            )),
-        }
-    }
-
-    /// Draws `n` more samples (1 ..= [`MAX_RUN`]) with each of the three
-    /// methods and adds their estimates `f_c · k/pdf` (0 where a technique
+    /// Draws `n` more samples (1 ..= [`MAX_RUN`]) with each of the
+    /// [`METHODS`] and adds their estimates `f_c · k/pdf` (0 where a technique
     /// returns no sample) to the running statistics.
     pub fn run(&mut self, n: u32) -> Result<(), Error> {
         check_count("n", n, MAX_RUN, "[1, 16777216]")?;
-        for method in Method::ALL {
-            let i = method as usize;
-            let (rng, stats) = (self.rngs[i], self.stats[i]);
-            let (rng, stats) = self.with(method, |t| accumulate(t, &self.problem, rng, stats, n));
-            self.rngs[i] = rng;
-            self.stats[i] = stats;
+        for (i, method) in METHODS.into_iter().enumerate() {
+            let (rng, stats) = (&mut self.rngs[i], &mut self.stats[i]);
+            for _ in 0..n {
+                let draw = draw(&self.phase, method, &self.problem, rng);
+                stats.push(draw.sum(|s| self.problem.estimate(s).to_f64()));
+            }
         }
         Ok(())
     }
 
-    /// `n` samples (1 ..= [`MAX_CLOUD`]) of `method` from generator `seed`,
-    /// rotated into the plane: `[x, y, estimate, …]`, one triple per vertex
-    /// the draws returned (fewer than `n` when some fell outside θmax, a few
-    /// more for MIS's companion vertices). The estimate is `f_c · k/pdf`;
-    /// its sum over a draw's vertices has the integral as its mean.
+    /// `n` samples (1 ..= [`MAX_CLOUD`]) of `method` (one of [`METHODS`])
+    /// from generator `seed`, rotated into the plane: `[x, y, estimate, …]`,
+    /// one triple per vertex the draws returned (fewer than `n` when some
+    /// fell outside θmax, a few more for MIS's companion vertices). The
+    /// estimate is `f_c · k/pdf`; its sum over a draw's vertices has the
+    /// integral as its mean.
     pub fn cloud(&self, method: Method, n: u32, seed: u32) -> Result<Vec<f32>, Error> {
         check_count("n", n, MAX_CLOUD, "[1, 1048576]")?;
-        let rng = Pcg32::new(u64::from(seed), 16 + method as u64);
-        Ok(self.with(method, |t| cloud(t, &self.problem, rng, n)))
+        let mut rng = Pcg32::new(u64::from(seed), 16 + slot(method)? as u64);
+        let problem = &self.problem;
+        let axis = &problem.connection.axis;
+        let e = axis.e;
+        // The in-plane normal of the axis (the plane is z = 0).
+        let normal = Vec3::new(-e.y(), e.x(), 0.0);
+        // Written in place and truncated: a Vec that never grows (its growth
+        // path is half a KiB of the module).
+        let mut out = vec![0.0; 6 * n as usize];
+        let mut len = 0;
+        for _ in 0..n {
+            for s in draw(&self.phase, method, problem, &mut rng).samples() {
+                let p = s.x1 - axis.x0;
+                let along = p.dot(e);
+                let radial = p - e * along;
+                let h = radial.length().copysign(radial.dot(normal));
+                let q = axis.x0 + e * along + normal * h;
+                if let Some(point) = out.get_mut(len..len + 3) {
+                    point.copy_from_slice(&[
+                        q.x().to_f32(),
+                        q.y().to_f32(),
+                        problem.estimate(s).to_f32(),
+                    ]);
+                    len += 3;
+                }
+            }
+        }
+        out.truncate(len);
+        Ok(out)
     }
 }
 
-/// One draw of a method: its vertices, the technique's one or MIS's pair
-/// (OMNEE's and, now and then, the companion's).
-trait Draws {
-    /// The vertices from the generator's next numbers (three, or six for MIS).
-    fn draw(&self, rng: &mut Pcg32) -> [Option<Sample<S>>; 2];
-}
-
-/// A single technique's draw.
-struct One<'a>(&'a dyn Technique<S>);
-
-impl Draws for One<'_> {
-    fn draw(&self, rng: &mut Pcg32) -> [Option<Sample<S>>; 2] {
-        [self.0.sample(rng.uniform3().map(S::from_f32)), None]
-    }
-}
-
-impl<P: PhaseFunction<S>> Draws for OmneeMis<'_, S, P> {
-    fn draw(&self, rng: &mut Pcg32) -> [Option<Sample<S>>; 2] {
-        let ([a, b, c], [d, e, f]) = (rng.uniform3(), rng.uniform3());
-        self.sample([a, b, c, d, e, f].map(S::from_f32))
+/// One draw of `method` (one of [`METHODS`]) for the problem's connection
+/// with numbers from `rng`, the module's one copy of each technique's
+/// sampling (a closure per call site would be a copy each): as
+/// `omnee_core::method::Setup::draw` draws with uniform directions in an
+/// infinite medium, without linking distance sampling, which the demo does
+/// not offer (`Setup::draw` made the module 2.5 KiB larger, over the limit).
+#[inline(never)]
+fn draw(
+    phase: &Analytic<S>,
+    method: Method,
+    problem: &PointToPoint<S>,
+    rng: &mut Pcg32,
+) -> Draw<S> {
+    let connection = problem.connection;
+    let next = || S::from_f32(rng.uniform());
+    let omnee = Omnee::new(connection, phase);
+    let equiangular = NoInverse(Equiangular::new(
+        connection,
+        phase,
+        Directions::Sphere,
+        Region::Everywhere,
+    ));
+    match method {
+        Method::Omnee => Draw::single(&omnee, next),
+        Method::Equiangular => Draw::single(&equiangular, next),
+        Method::Mis => OmneeMis::recommended(omnee, &equiangular).draw(next),
+        // Refused by `slot` before any draw.
+        Method::Distance => Draw {
+            u: [0.0; 6],
+            taken: 0,
+            vertices: [None, None],
+        },
     }
 }
 
 /// A technique without its inverse map, which the demo never uses: behind
-/// `&dyn Technique` (the demo's dispatch and [`OmneeMis`]'s companion) every trait
-/// method is linked through the vtable, and OMNEE's and equiangular
-/// sampling's `invert` are 1.5 KiB of the module. Sampling and densities are
-/// the technique's own.
+/// `&dyn Technique` ([`OmneeMis`]'s companion) every trait method is linked
+/// through the vtable, and equiangular sampling's `invert` is most of a KiB
+/// of the module. Sampling and densities are the technique's own.
 struct NoInverse<T>(T);
 
 impl<T: Technique<S>> Technique<S> for NoInverse<T> {
@@ -289,60 +306,6 @@ impl<T: Technique<S>> Technique<S> for NoInverse<T> {
     fn invert(&self, _x1: Vec3) -> Option<[S; 3]> {
         None
     }
-}
-
-/// Adds the estimates of `n` draws of `method` (the sum of `f_c · k/pdf`
-/// over a draw's vertices, 0 where it has none) from `rng` to `stats`;
-/// returns both advanced.
-fn accumulate(
-    method: &dyn Draws,
-    problem: &PointToPoint<S>,
-    mut rng: Pcg32,
-    mut stats: Running,
-    n: u32,
-) -> (Pcg32, Running) {
-    for _ in 0..n {
-        let estimate = method
-            .draw(&mut rng)
-            .iter()
-            .flatten()
-            .map(|s| problem.estimate(s).to_f64())
-            .sum();
-        stats.push(estimate);
-    }
-    (rng, stats)
-}
-
-/// The vertices of `n` draws of `method` from `rng`, rotated into the plane
-/// about the axis: `[x, y, estimate, …]`.
-fn cloud(method: &dyn Draws, problem: &PointToPoint<S>, mut rng: Pcg32, n: u32) -> Vec<f32> {
-    let axis = &problem.connection.axis;
-    let e = axis.e;
-    // The in-plane normal of the axis (the plane is z = 0).
-    let normal = Vec3::new(-e.y(), e.x(), 0.0);
-    // Written in place and truncated: a Vec that never grows (its growth
-    // path is half a KiB of the module).
-    let mut out = vec![0.0; 6 * n as usize];
-    let mut len = 0;
-    for _ in 0..n {
-        for s in method.draw(&mut rng).iter().flatten() {
-            let p = s.x1 - axis.x0;
-            let along = p.dot(e);
-            let radial = p - e * along;
-            let h = radial.length().copysign(radial.dot(normal));
-            let q = axis.x0 + e * along + normal * h;
-            if let Some(point) = out.get_mut(len..len + 3) {
-                point.copy_from_slice(&[
-                    q.x().to_f32(),
-                    q.y().to_f32(),
-                    problem.estimate(s).to_f32(),
-                ]);
-                len += 3;
-            }
-        }
-    }
-    out.truncate(len);
-    out
 }
 
 /// A histogram of `n` deflections θ sampled (in f32, as a renderer does) from

@@ -6,17 +6,18 @@
 mod common;
 
 use common::*;
-use omnee_wasm::demo::{self, Method, Problem};
+use omnee_core::method::Method;
+use omnee_wasm::demo::{self, METHODS, Problem};
 
 fn problem(spec: &str, x0: [f64; 2], x2: [f64; 2], m: (f64, f64, f64), seed: u32) -> Problem {
     Problem::new(spec, x0, x2, m.0, m.1, m.2, seed).unwrap()
 }
 
 fn estimates(p: &Problem) -> Vec<f64> {
-    Method::ALL
+    METHODS
         .iter()
         .flat_map(|&m| {
-            let s = p.stats(m);
+            let s = p.stats(m).unwrap();
             [s.count() as f64, s.mean(), s.std_error()]
         })
         .collect()
@@ -114,7 +115,7 @@ fn estimators_converge_to_the_quadrature_reference() {
             (0.2, 0.05, PI / 2.0),
             &[Method::Omnee, Method::Mis],
         ),
-        ("iso", (0.5, 0.5, PI), &Method::ALL),
+        ("iso", (0.5, 0.5, PI), &METHODS),
         (
             "tthg:0.95,-0.4,0.9",
             (0.3, 0.2, PI),
@@ -130,7 +131,7 @@ fn estimators_converge_to_the_quadrature_reference() {
             "{spec}: {reference}"
         );
         for &m in methods {
-            let s = p.stats(m);
+            let s = p.stats(m).unwrap();
             assert_eq!(s.count(), 200_000);
             let z = (s.mean() - reference) / s.std_error();
             assert!(
@@ -154,7 +155,10 @@ fn omnee_is_far_less_noisy_than_equiangular_for_a_peaked_lobe() {
     // MATH.md §6: relative variance 0.027 against 1.4e4 at g = 0.9.
     let mut p = problem("hg:0.9", [-0.5, 0.0], [0.5, 0.0], (0.2, 0.05, PI / 2.0), 3);
     p.run(100_000).unwrap();
-    let (o, e) = (p.stats(Method::Omnee), p.stats(Method::Equiangular));
+    let (o, e) = (
+        p.stats(Method::Omnee).unwrap(),
+        p.stats(Method::Equiangular).unwrap(),
+    );
     assert!(o.std_error() * 10.0 < e.std_error(), "{o:?} vs {e:?}");
 }
 
@@ -164,7 +168,7 @@ fn reset_restarts_the_same_sequence() {
     p.run(1000).unwrap();
     let first = estimates(&p);
     p.reset();
-    assert_eq!(p.stats(Method::Mis).count(), 0);
+    assert_eq!(p.stats(Method::Mis).unwrap().count(), 0);
     p.run(1000).unwrap();
     assert_eq!(estimates(&p), first);
 }
@@ -278,7 +282,15 @@ fn bad_input_is_an_error_naming_the_field() {
     let mut p = ok("iso", [1.0, 0.0], PI).unwrap();
     assert_eq!(p.run(0).unwrap_err().field(), "n");
     assert_eq!(p.run(u32::MAX).unwrap_err().field(), "n");
-    assert_eq!(Method::from_index(3).unwrap_err().field(), "technique");
+    assert_eq!(
+        demo::slot(Method::Distance).unwrap_err().field(),
+        "technique"
+    );
+    assert_eq!(p.stats(Method::Distance).unwrap_err().field(), "technique");
+    assert_eq!(
+        p.cloud(Method::Distance, 10, 1).unwrap_err().field(),
+        "technique"
+    );
     assert_eq!(p.cloud(Method::Omnee, 0, 1).unwrap_err().field(), "n");
     assert_eq!(
         demo::histogram("iso", 10, 0, 1.0, 1).unwrap_err().field(),

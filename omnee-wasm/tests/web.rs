@@ -7,7 +7,8 @@
 mod common;
 
 use common::*;
-use omnee_wasm::{Demo, arc, histogram, mean_cosine, quantile, waterlevel};
+use omnee_core::method::Method;
+use omnee_wasm::{Demo, Technique, arc, histogram, mean_cosine, quantile, waterlevel};
 use wasm_bindgen::prelude::wasm_bindgen;
 use wasm_bindgen_test::*;
 
@@ -18,8 +19,12 @@ fn demo(spec: &str, x0: [f64; 2], x2: [f64; 2], m: (f64, f64, f64)) -> Demo {
     d.unwrap_or_else(|_| panic!("Demo::new({spec}) failed"))
 }
 
+/// The demo's techniques, in the order of its statistics (`demo::METHODS`).
+const TECHNIQUES: [Technique; 3] = [Technique::Omnee, Technique::Equiangular, Technique::Mis];
+
 fn estimates(d: &Demo) -> Vec<f64> {
-    (0..3)
+    TECHNIQUES
+        .into_iter()
         .flat_map(|t| {
             let e = d.estimate(t).expect("estimate");
             [get(&e, "count"), get(&e, "mean"), get(&e, "stdError")]
@@ -42,9 +47,9 @@ fn browser_numbers_match_the_native_fixture() {
         estimates(&a),
         vec![b.reference()],
         estimates(&b),
-        cloud(0),
-        cloud(1),
-        cloud(2),
+        cloud(Technique::Omnee),
+        cloud(Technique::Equiangular),
+        cloud(Technique::Mis),
         numbers(&histogram(spec, n, bins, hi, 11).expect("histogram")),
         [
             "x1x", "x1y", "theta", "alpha", "beta", "xi", "t", "s", "d1", "d2", "radius", "cx",
@@ -66,14 +71,17 @@ fn estimates_report_the_relative_error() {
     let mut d = demo("hg:0.9", [-0.5, 0.0], [0.5, 0.0], (0.2, 0.05, PI));
     d.run(50_000).expect("run");
     let r = d.reference();
-    for t in 0..3 {
+    for t in TECHNIQUES {
         let e = d.estimate(t).expect("estimate");
         assert_eq!(get(&e, "count"), 50_000.0);
         let (mean, rel) = (get(&e, "mean"), get(&e, "relativeError"));
         assert!((rel - (mean - r).abs() / r).abs() < 1e-15);
     }
     d.reset();
-    assert_eq!(get(&d.estimate(2).expect("estimate"), "count"), 0.0);
+    assert_eq!(
+        get(&d.estimate(Technique::Mis).expect("estimate"), "count"),
+        0.0
+    );
     assert!((mean_cosine("hg:0.9").expect("g") - 0.9).abs() < 1e-15);
     let pts = arc(0.0, 0.0, 1.0, 0.0, 1.0, 16).expect("arc");
     assert_eq!(numbers(&pts).len(), 4 * 17);
@@ -93,8 +101,7 @@ fn bad_input_is_an_error_not_a_trap() {
     assert!(bad("iso", [1.0, 0.0], (0.1, 0.1, 4.0)), "theta_max > pi");
     let mut d = demo("iso", [0.0, 0.0], [1.0, 0.0], (0.1, 0.1, PI));
     assert!(d.run(0).is_err() && d.run(u32::MAX).is_err());
-    assert!(d.estimate(3).is_err());
-    assert!(d.cloud(7, 10, 1).is_err() && d.cloud(0, u32::MAX, 1).is_err());
+    assert!(d.cloud(Technique::Omnee, u32::MAX, 1).is_err());
     assert!(histogram("hg:2", 10, 8, 1.0, 1).is_err());
     assert!(histogram("iso", 10, 8, f64::NAN, 1).is_err());
     assert!(quantile("iso", f64::NAN).is_err());
@@ -118,6 +125,11 @@ fn numbers_are_read_as_f64_from_str_reads_them() {
 #[wasm_bindgen(inline_js = "
 export function message(e) { return e instanceof Error ? e.message : ''; }
 export function get(o, key) { return typeof o[key] === 'number' ? o[key] : NaN; }
+export function refused(demo, name) {
+  try { demo.estimate(name); } catch (e) { return e instanceof Error ? e.message : 'not an Error'; }
+  try { demo.cloud(name, 10, 1); } catch (e) { return e instanceof Error ? e.message : 'not an Error'; }
+  return '';
+}
 export function numbers(a) {
   if (!(a instanceof Float32Array || a instanceof Float64Array)) throw new Error('not a typed array');
   return Float64Array.from(a);
@@ -125,6 +137,10 @@ export function numbers(a) {
 extern "C" {
     /// The message of a thrown JavaScript `Error` (empty for anything else).
     fn message(e: &wasm_bindgen::JsValue) -> String;
+
+    /// The message of the `Error` that `demo.estimate(name)` and
+    /// `demo.cloud(name, …)` throw (empty if neither does).
+    fn refused(demo: &wasm_bindgen::JsValue, name: &str) -> String;
 
     /// The number `o[key]` of a result object (NaN if it is missing or not a
     /// number).
@@ -155,5 +171,30 @@ fn errors_are_javascript_errors_with_the_cores_message() {
             .unwrap_err()
             .to_string();
         assert_eq!(message(&thrown), native, "{spec} {x2:?} {sigma_s}");
+    }
+}
+
+#[wasm_bindgen_test]
+fn techniques_are_the_cores_names_and_other_strings_are_refused() {
+    for (t, m) in TECHNIQUES
+        .into_iter()
+        .zip([Method::Omnee, Method::Equiangular, Method::Mis])
+    {
+        assert_eq!(t.method(), Ok(m));
+        assert_eq!(
+            wasm_bindgen::JsValue::from(t).as_string().as_deref(),
+            Some(m.name())
+        );
+    }
+    let d = wasm_bindgen::JsValue::from(demo("iso", [0.0, 0.0], [1.0, 0.0], (0.1, 0.1, PI)));
+    for name in ["omnee", "equiangular", "mis"] {
+        assert_eq!(refused(&d, name), "", "{name}");
+    }
+    for name in ["distance", "OMNEE", "", "0"] {
+        assert_eq!(
+            refused(&d, name),
+            "syntax error in technique: unknown name; allowed: omnee, equiangular, mis",
+            "{name:?}"
+        );
     }
 }

@@ -2,9 +2,17 @@
 import init, { Demo, arc, histogram, quantile, waterlevel, version } from './pkg/omnee_wasm.js';
 
 const $ = (id) => document.getElementById(id);
-const COLORS = ['#d62728', '#1f77b4', '#2ca02c'];
-const NAMES = ['OMNEE', 'equiangular', 'MIS'];
 const SEED = 2022;
+
+// The techniques: the rows of the estimates table, each with the module's name for it
+// (`Technique`: 'omnee', 'equiangular', 'mis'), a short label and its colour from style.css.
+const TECHNIQUES = [...document.querySelectorAll('tr[data-technique]')].map((row) => ({
+  name: row.dataset.technique,
+  label: row.dataset.label,
+  row,
+  color: getComputedStyle(row.querySelector('th')).color,
+}));
+const emptyHistory = () => Object.fromEntries(TECHNIQUES.map((t) => [t.name, []]));
 
 const state = {
   x0: [-0.5, 0.0],
@@ -12,7 +20,7 @@ const state = {
   spec: 'hg:0.9',
   demo: null,
   running: true,
-  history: [[], [], []],
+  history: emptyHistory(),
   rate: 0,
   samplesPerFrame: 20000,
   error: '',
@@ -56,7 +64,7 @@ function rebuild() {
       Number($('sigma-s').value), Number($('sigma-a').value), Number($('theta-max').value), SEED);
     if (state.demo) state.demo.free();
     state.demo = demo;
-    state.history = [[], [], []];
+    state.history = emptyHistory();
     showError(null);
   } catch (e) {
     showError(e);
@@ -75,8 +83,8 @@ function drawView() {
   $('theta-out').textContent = theta.toFixed(2);
   $('xi-out').textContent = xi.toFixed(2);
   // the sample cloud
-  const technique = Number($('cloud').value);
-  if (state.demo && technique >= 0) {
+  const technique = $('cloud').value;
+  if (state.demo && technique) {
     const pts = state.demo.cloud(technique, 3000, 7);
     const ref = state.demo.reference;
     for (let i = 0; i < pts.length; i += 3) {
@@ -223,16 +231,17 @@ function drawHistogram() {
 function updateEstimates() {
   const d = state.demo;
   $('reference').textContent = d ? fmt(d.reference, 7) : '–';
-  for (let t = 0; t < 3; t++) {
+  for (const { name, row } of TECHNIQUES) {
     if (!d) break;
-    const e = d.estimate(t);
-    $(`n-${t}`).textContent = e.count.toLocaleString('en-US');
-    $(`mean-${t}`).textContent = fmt(e.mean, 6);
-    $(`se-${t}`).textContent = fmt(e.stdError, 3);
-    $(`rel-${t}`).textContent = fmt(e.relativeError, 3);
-    $(`z-${t}`).textContent = e.stdError > 0 ? ((e.mean - d.reference) / e.stdError).toFixed(2) : '–';
+    const e = d.estimate(name);
+    const set = (cell, text) => { row.querySelector(`.${cell}`).textContent = text; };
+    set('count', e.count.toLocaleString('en-US'));
+    set('mean', fmt(e.mean, 6));
+    set('se', fmt(e.stdError, 3));
+    set('rel', fmt(e.relativeError, 3));
+    set('z', e.stdError > 0 ? ((e.mean - d.reference) / e.stdError).toFixed(2) : '–');
     if (e.count > 0) {
-      const h = state.history[t];
+      const h = state.history[name];
       if (!h.length || e.count >= 1.1 * h[h.length - 1][0]) h.push([e.count, Math.max(e.relativeError, 1e-7)]);
     }
   }
@@ -253,24 +262,24 @@ function drawConvergence() {
   for (let p = nLo; p <= nHi; p++) ctx.fillText(`1e${p}`, x(10 ** p) - 10, B + 16);
   for (let p = eLo; p <= eHi; p++) ctx.fillText(`1e${p}`, 8, y(10 ** p) + 4);
   ctx.fillText('relative error vs samples', L + 10, 16);
-  state.history.forEach((h, t) => {
-    ctx.strokeStyle = COLORS[t];
+  TECHNIQUES.forEach(({ name, label, color }, t) => {
+    ctx.strokeStyle = color;
     ctx.lineWidth = 2;
     ctx.beginPath();
-    for (const [n, e] of h) ctx.lineTo(x(n), Math.min(B, Math.max(B - H, y(e))));
+    for (const [n, e] of state.history[name]) ctx.lineTo(x(n), Math.min(B, Math.max(B - H, y(e))));
     ctx.stroke();
-    ctx.fillStyle = COLORS[t];
-    ctx.fillText(NAMES[t], L + W - 90, 16 + 14 * t);
+    ctx.fillStyle = color;
+    ctx.fillText(label, L + W - 90, 16 + 14 * t);
   });
   ctx.lineWidth = 1;
 }
 
-/** Runs `n` samples per technique in one wasm call and returns the throughput (samples/s, all three). */
+/** Runs `n` samples per technique in one wasm call and returns the throughput (samples/s, all techniques). */
 function measure(n) {
   const t0 = performance.now();
   state.demo.run(n);
   const dt = (performance.now() - t0) / 1000;
-  return (3 * n) / Math.max(dt, 1e-6);
+  return (TECHNIQUES.length * n) / Math.max(dt, 1e-6);
 }
 
 function frame() {
@@ -279,7 +288,7 @@ function frame() {
       const t0 = performance.now();
       state.demo.run(state.samplesPerFrame);
       const dt = performance.now() - t0;
-      state.rate = (3 * state.samplesPerFrame) / Math.max(dt / 1000, 1e-6);
+      state.rate = (TECHNIQUES.length * state.samplesPerFrame) / Math.max(dt / 1000, 1e-6);
       // aim at about 12 ms of sampling per frame
       state.samplesPerFrame = Math.max(1000, Math.min(2_000_000, Math.round(state.samplesPerFrame * (12 / Math.max(dt, 0.5)))));
       updateEstimates();
@@ -300,6 +309,10 @@ function onPhaseControls() {
 }
 
 async function main() {
+  // The cloud menu: one entry per technique (the first selected), then "none".
+  const none = $('cloud').options[0];
+  for (const { name, label } of TECHNIQUES) $('cloud').insertBefore(new Option(label, name), none);
+  $('cloud').value = TECHNIQUES[0].name;
   await init();
   $('version').textContent = version();
   for (const id of ['theta', 'xi', 'cloud']) $(id).addEventListener('input', drawView);
@@ -310,12 +323,12 @@ async function main() {
     state.running = !state.running;
     $('pause').textContent = state.running ? 'pause' : 'run';
   });
-  $('reset').addEventListener('click', () => { state.demo?.reset(); state.history = [[], [], []]; updateEstimates(); });
+  $('reset').addEventListener('click', () => { state.demo?.reset(); state.history = emptyHistory(); updateEstimates(); });
   $('g-out').textContent = Number($('g').value).toFixed(2);
   $('diameter-out').textContent = Number($('diameter').value).toFixed(1);
   rebuild();
   // for the end-to-end test: the state, the world <-> pixel map and a throughput probe
-  window.omnee = { state, toPx, measure, ready: true };
+  window.omnee = { state, toPx, measure, techniques: TECHNIQUES.map((t) => t.name), ready: true };
   requestAnimationFrame(frame);
 }
 

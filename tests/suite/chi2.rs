@@ -54,7 +54,7 @@ const PHASES: [PhaseSpec; 13] = [
     PhaseSpec::Tabulated(TABLE_PEAKED),
 ];
 
-/// Seeds of two tables ([`crate::harness::table`]): seven bins spread
+/// Seeds of two tables ([`crate::harness::phases::table`]): seven bins spread
 /// evenly with two empty, and twelve bins crowding towards θ = 0 (the first
 /// of them, [0, 0.012), empty).
 const TABLE_EVEN: u64 = 1;

@@ -57,7 +57,7 @@ use omnee::medium::{Homogeneous, Region};
 use omnee::mis::{Heuristic, OmneeMis, OneSample};
 use omnee::phase::Deflection;
 use omnee::reference::PointToPoint;
-use omnee::sampling::{Connection, Directions, Distance, Equiangular, Omnee, Technique};
+use omnee::sampling::{Connection, Directions, Distance, Draw, Equiangular, Omnee, Technique};
 use std::f64::consts::PI;
 
 const CONFIGURATIONS: usize = 6;
@@ -76,21 +76,21 @@ const PHASES: [PhaseSpec; CONFIGURATIONS] = [
 ];
 
 /// One estimate from a generator's numbers.
-type Draw<'a> = &'a dyn Fn(&mut Rng) -> f64;
+type Estimator<'a> = &'a dyn Fn(&mut Rng) -> f64;
 
 /// An estimator run: name, reference value, one estimate.
-type Run<'a> = (&'a str, f64, Draw<'a>);
+type Run<'a> = (&'a str, f64, Estimator<'a>);
 
 /// The estimate `f_c · weight` of one sample of `t` (0 for none).
 fn one<'a>(
     problem: &'a PointToPoint<f64>,
     t: &'a dyn Technique<f64>,
 ) -> impl Fn(&mut Rng) -> f64 + 'a {
-    move |rng| t.sample(rng.u3()).map_or(0.0, |s| problem.estimate(&s))
+    move |rng| Draw::single(t, || rng.uniform()).sum(|s| problem.estimate(s))
 }
 
 /// Mean and standard error of `SAMPLES` estimates.
-fn estimate(draw: Draw<'_>, seed: u64) -> (f64, f64) {
+fn estimate(draw: Estimator<'_>, seed: u64) -> (f64, f64) {
     let mut rng = Rng::new(seed);
     let (mut sum, mut sum2) = (0.0, 0.0);
     for _ in 0..SAMPLES {
@@ -154,15 +154,7 @@ fn every_technique_estimates_the_quadrature_reference() {
         // θ ≥ θmin, θmin in [π/2, 0.9π]: the estimate sums both vertices.
         let cone = Deflection::from_theta(rng.range(0.5, 0.9) * PI);
         let behind = OmneeMis::new(omnee_full, &eq, rng.range(0.05, 0.5), cone).unwrap();
-        let pair = |rng: &mut Rng| {
-            let (a, b) = (rng.u3(), rng.u3());
-            behind
-                .sample([a[0], a[1], a[2], b[0], b[1], b[2]])
-                .iter()
-                .flatten()
-                .map(|s| p_full.estimate(s))
-                .sum::<f64>()
-        };
+        let pair = |rng: &mut Rng| behind.draw(|| rng.uniform()).sum(|s| p_full.estimate(s));
         let (d0, d1, d2) = (
             one(&p_restricted, &omnee),
             one(&p_full, &omnee_full),

@@ -42,13 +42,28 @@ impl<F: Real, P: PhaseFunction<F>> Distance<F, P> {
         sigma: F,
     ) -> Result<Self, Error> {
         check_closed("sigma", sigma.to_f64(), 0.0, f64::MAX, "[0, inf)")?;
-        Ok(Self {
+        Ok(Self::with_checked_sigma(
+            connection, phase, directions, region, sigma,
+        ))
+    }
+
+    /// [`Distance::new`] for a σ its caller has checked to be finite and
+    /// ≥ 0 ([`crate::method::Setup::new`] checks σt once for every draw).
+    #[inline]
+    pub(crate) fn with_checked_sigma(
+        connection: Connection<F>,
+        phase: P,
+        directions: Directions<F>,
+        region: Region<F>,
+        sigma: F,
+    ) -> Self {
+        Self {
             connection,
             phase,
             directions,
             region,
             sigma,
-        })
+        }
     }
 
     /// The free-flight coefficient σ.

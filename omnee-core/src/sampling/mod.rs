@@ -21,17 +21,21 @@
 //!   uniform triples in structure-of-arrays form, vectorised.
 //!
 //! All densities are in the volume measure (m⁻³), so [`crate::mis`] combines
-//! any set of them.
+//! any set of them. A [`Draw`] is one estimate's vertices (one, or two for
+//! [`crate::mis::OmneeMis`]) with the uniform numbers they took;
+//! [`crate::method`] makes draws for a technique chosen by name.
 
 mod batch;
 mod directions;
 mod distance;
+mod draw;
 mod equiangular;
 mod omnee;
 
 pub use batch::{Uniforms, Vertices};
 pub use directions::Directions;
 pub use distance::Distance;
+pub use draw::Draw;
 pub use equiangular::Equiangular;
 pub use omnee::Omnee;
 

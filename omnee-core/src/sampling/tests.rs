@@ -6,30 +6,8 @@ use crate::medium::{Homogeneous, Region};
 use crate::mis::{Heuristic, OmneeMis, OneSample};
 use crate::phase::{HenyeyGreenstein, Isotropic};
 use crate::reference::PointToPoint;
+use crate::rng::SplitMix64;
 use glam::DVec3;
-
-/// SplitMix64: a tiny, seeded generator for tests.
-struct SplitMix(u64);
-impl rand_core::TryRng for SplitMix {
-    type Error = core::convert::Infallible;
-    fn try_next_u32(&mut self) -> Result<u32, Self::Error> {
-        Ok((self.try_next_u64()? >> 32) as u32)
-    }
-    fn try_next_u64(&mut self) -> Result<u64, Self::Error> {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        Ok(z ^ (z >> 31))
-    }
-    fn try_fill_bytes(&mut self, dst: &mut [u8]) -> Result<(), Self::Error> {
-        for chunk in dst.chunks_mut(8) {
-            let v = self.try_next_u64()?.to_le_bytes();
-            chunk.copy_from_slice(&v[..chunk.len()]);
-        }
-        Ok(())
-    }
-}
 
 fn connection(theta_max: f64) -> Connection<f64> {
     Connection::new(
@@ -40,7 +18,7 @@ fn connection(theta_max: f64) -> Connection<f64> {
     .unwrap()
 }
 
-fn uniform3(rng: &mut SplitMix) -> [f64; 3] {
+fn uniform3(rng: &mut SplitMix64) -> [f64; 3] {
     [uniform(rng), uniform(rng), uniform(rng)]
 }
 
@@ -60,7 +38,7 @@ fn mean_and_stderr(n: usize, mut estimate: impl FnMut() -> f64) -> (f64, f64) {
 #[test]
 fn deflection_between_directions_matches_acos() {
     let c = connection(core::f64::consts::PI);
-    let mut rng = SplitMix(5);
+    let mut rng = SplitMix64::new(5);
     for _ in 0..1000 {
         let x1 = DVec3::new(uniform(&mut rng), uniform(&mut rng), uniform(&mut rng)) * 4.0 - 2.0;
         let (d, d1, d2) = c.deflection(x1).unwrap();
@@ -110,7 +88,7 @@ fn with_techniques<P: PhaseFunction<f64> + Copy>(
 #[test]
 fn sample_pdf_and_invert_round_trip() {
     with_techniques(HenyeyGreenstein::new(0.8).unwrap(), |name, t| {
-        let mut rng = SplitMix(13);
+        let mut rng = SplitMix64::new(13);
         let mut sampled = 0;
         for _ in 0..5000 {
             let u = uniform3(&mut rng);
@@ -313,7 +291,7 @@ fn every_technique_agrees_with_the_quadrature_reference() {
         .unwrap();
         let omnee_has_finite_variance = cfg.theta_max <= HALF || cfg.tau > 0.0;
         // One estimate per call: a technique's vertex, or OmneeMis's pair.
-        type Estimator<'a> = std::boxed::Box<dyn FnMut(&mut SplitMix) -> f64 + 'a>;
+        type Estimator<'a> = std::boxed::Box<dyn FnMut(&mut SplitMix64) -> f64 + 'a>;
         let mut techniques: std::vec::Vec<(&str, &dyn Technique<f64>, usize)> =
             std::vec![("mis omnee(θ<π/2)+equiangular", &omnee_equi, 400_000)];
         if omnee_has_finite_variance {
@@ -326,30 +304,24 @@ fn every_technique_agrees_with_the_quadrature_reference() {
         let mut estimators: std::vec::Vec<(&str, Estimator<'_>, usize)> = techniques
             .into_iter()
             .map(|(name, t, n)| {
-                let e: Estimator<'_> = std::boxed::Box::new(move |rng: &mut SplitMix| {
-                    t.sample(uniform3(rng))
-                        .map_or(0.0, |x| problem.estimate(&x))
+                let e: Estimator<'_> = std::boxed::Box::new(move |rng: &mut SplitMix64| {
+                    Draw::single(t, || uniform(rng)).sum(|x| problem.estimate(x))
                 });
                 (name, e, n)
             })
             .collect();
         if omnee_has_finite_variance {
-            let e: Estimator<'_> = std::boxed::Box::new(|rng: &mut SplitMix| {
-                let [a, b, c] = uniform3(rng);
-                let [d, e, f] = uniform3(rng);
+            let e: Estimator<'_> = std::boxed::Box::new(|rng: &mut SplitMix64| {
                 omnee_backward
-                    .sample([a, b, c, d, e, f])
-                    .iter()
-                    .flatten()
-                    .map(|x| problem.estimate(x))
-                    .sum()
+                    .draw(|| uniform(rng))
+                    .sum(|x| problem.estimate(x))
             });
             estimators.push(("mis omnee + equiangular behind 3π/4", e, 400_000));
         }
         for (name, mut estimate, n) in estimators {
             seed += 1;
             compared += 1;
-            let mut rng = SplitMix(seed);
+            let mut rng = SplitMix64::new(seed);
             let (mean, se) = mean_and_stderr(n, || estimate(&mut rng));
             std::println!(
                 "g {} τ {} θmax {:.3} {name}: {mean:.6e} ± {se:.1e} (quadrature {want:.6e})",
@@ -526,7 +498,7 @@ fn f32_agrees_with_f64() {
             &Distance::new(c64, h64, Directions::Sphere, Region::Everywhere, 1.0).unwrap(),
         ),
     ];
-    let mut rng = SplitMix(17);
+    let mut rng = SplitMix64::new(17);
     for (name, t32, t64) in pairs {
         let mut worst: f64 = 0.0;
         for _ in 0..20_000 {
@@ -582,7 +554,7 @@ fn pdf_is_the_inverse_jacobian_of_the_sample_map() {
         ("distance", &dist),
         ("distance cosine slab", &dist_slab),
     ];
-    let mut rng = SplitMix(11);
+    let mut rng = SplitMix64::new(11);
     for (name, t) in techniques {
         let mut checked = 0;
         while checked < 200 {
@@ -678,10 +650,6 @@ fn f32_keeps_its_digits_at_the_edges_of_the_sample_space() {
 fn omnee_mis_returns_its_density_and_the_kernel_over_it() {
     use crate::phase::Deflection;
     let c = connection(core::f64::consts::PI);
-    let uniform6 = |rng: &mut SplitMix| {
-        let ([a, b, c], [d, e, f]) = (uniform3(rng), uniform3(rng));
-        [a, b, c, d, e, f]
-    };
     for g in [-0.7, 0.0, 0.9] {
         let hg = HenyeyGreenstein::new(g).unwrap();
         let omnee = Omnee::new(c, hg);
@@ -689,10 +657,13 @@ fn omnee_mis_returns_its_density_and_the_kernel_over_it() {
         let cone = Deflection::from_theta(0.75 * core::f64::consts::PI);
         let mis = OmneeMis::new(omnee, &equi, 0.2, cone).unwrap();
         let alone = OmneeMis::new(omnee, &equi, 0.0, cone).unwrap();
-        let mut rng = SplitMix(31);
+        let mut rng = SplitMix64::new(31);
         let (mut behind, mut companions) = (0, 0);
         for _ in 0..20_000 {
-            let u = uniform6(&mut rng);
+            let draw = mis.draw(|| uniform(&mut rng));
+            let (u, pair) = (draw.u, draw.vertices);
+            assert_eq!(draw.taken, 6);
+            assert_eq!(pair, mis.sample(u), "g {g}: {u:?}");
             // Rate 0 is OMNEE itself.
             let [a, b, c3] = [u[0], u[1], u[2]];
             assert_eq!(
@@ -700,7 +671,6 @@ fn omnee_mis_returns_its_density_and_the_kernel_over_it() {
                 [omnee.sample([a, b, c3]), None],
                 "g {g}: {u:?}"
             );
-            let pair = mis.sample(u);
             // The companion comes with probability 0.2 (u[3] < 0.2).
             assert!(pair[1].is_none() || u[3] < 0.2);
             for (k, s) in pair.iter().enumerate() {
@@ -737,8 +707,13 @@ fn omnee_mis_returns_its_density_and_the_kernel_over_it() {
         let cone = Deflection::from_theta(Mis::THETA_MIN);
         let spelled_out = OmneeMis::new(omnee, &equi, Mis::RATE, cone).unwrap();
         for _ in 0..2000 {
-            let u = uniform6(&mut rng);
-            assert_eq!(recommended.sample(u), spelled_out.sample(u), "g {g}: {u:?}");
+            let draw = recommended.draw(|| uniform(&mut rng));
+            assert_eq!(
+                draw.vertices,
+                spelled_out.sample(draw.u),
+                "g {g}: {:?}",
+                draw.u
+            );
         }
     }
 }

@@ -1,0 +1,394 @@
+//! The once-more methods a front end chooses between by name, and the
+//! [`Setup`] that makes one [`Draw`] with any of them.
+//!
+//! A renderer's once-more term needs, besides the connection `x0 → x2`
+//! (which changes with every light sample), the phase function at `x1`, how
+//! rays leave the receiver, where the medium is and its extinction σt: the
+//! [`Setup`], validated once. Each estimate is then one draw,
+//!
+//! ```
+//! use omnee_core::medium::Region;
+//! use omnee_core::method::{Method, Setup};
+//! use omnee_core::phase::HenyeyGreenstein;
+//! use omnee_core::rng::SplitMix64;
+//! use omnee_core::sampling::{Connection, Directions};
+//! use glam::Vec3;
+//!
+//! # fn main() -> Result<(), omnee_core::Error> {
+//! let phase = HenyeyGreenstein::new(0.9)?;
+//! let setup = Setup::new(phase, Directions::Sphere, Region::Everywhere, 0.55)?;
+//! let method: Method = "mis".parse()?;
+//! let connection = Connection::new(Vec3::new(0.0, 0.0, 1.0), Vec3::ZERO, core::f32::consts::PI)?;
+//! let mut rng = SplitMix64::new(7);
+//! let draw = setup.draw_with(method, connection, &mut rng);
+//! // The estimate is the sum of f_c · weight over the draw's vertices.
+//! let weights: f32 = draw.sum(|s| s.weight);
+//! assert!(draw.vertices[0].is_some() && weights > 0.0);
+//! # Ok(())
+//! # }
+//! ```
+
+use crate::error::{Error, check_closed};
+use crate::medium::Region;
+use crate::mis::OmneeMis;
+use crate::phase::PhaseFunction;
+use crate::real::Real;
+use crate::sampling::{Connection, Directions, Distance, Draw, Equiangular, Omnee, Technique};
+use core::fmt;
+use core::str::FromStr;
+
+/// A technique for the once-more vertex `x1`, chosen by name: the closed
+/// set a front end offers (command-line options, scene files, the browser
+/// demo, benchmarks).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// OMNEE ([`Omnee`]): θ from the phase function, then the circumcircle
+    /// arc; weight `θ / (s sin θ)`, restricted to the connection's θmax.
+    Omnee,
+    /// Equiangular sampling ([`Equiangular`]): a ray from `x2`, the distance
+    /// with density `∝ 1/d1²`; weight `p(θ) / (pdf_ω(ω) c)`.
+    Equiangular,
+    /// Distance sampling ([`Distance`]): a ray from `x2`, the free-flight
+    /// distance with density `∝ σt e^{−σt t}` in the medium; weight
+    /// `p(θ) / (d1² pdf_ω(ω) pdf(t))`.
+    Distance,
+    /// OMNEE's vertex over the whole range θ < θmax and, with probability
+    /// c = [`OmneeMis::RATE`] (0.05), an equiangular vertex behind the
+    /// backward cone θ ≥ [`OmneeMis::THETA_MIN`] (3π/4):
+    /// [`OmneeMis::recommended`], the balance heuristic over the expected
+    /// counts 1 and c behind the cone (each vertex's weight
+    /// `k / (p_O + c p_C)`), OMNEE alone in front of it.
+    Mis,
+}
+
+impl Method {
+    /// Every method, in the order of [`Method::ALLOWED`].
+    pub const ALL: [Method; 4] = [
+        Method::Omnee,
+        Method::Equiangular,
+        Method::Distance,
+        Method::Mis,
+    ];
+
+    /// The names of [`Method::ALL`], as an error message lists them.
+    pub const ALLOWED: &'static str = "omnee, equiangular, distance, mis";
+
+    /// The method's name: `omnee`, `equiangular`, `distance` or `mis`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Method::Omnee => "omnee",
+            Method::Equiangular => "equiangular",
+            Method::Distance => "distance",
+            Method::Mis => "mis",
+        }
+    }
+
+    /// The method called `name` (exactly, lower case); an
+    /// [`Error::Syntax`] for field `technique` that lists the allowed names
+    /// otherwise.
+    pub fn from_name(name: &str) -> Result<Self, Error> {
+        Self::ALL
+            .into_iter()
+            .find(|m| m.name() == name)
+            .ok_or(Error::Syntax {
+                field: "technique",
+                reason: "unknown name; allowed: omnee, equiangular, distance, mis",
+            })
+    }
+}
+
+impl FromStr for Method {
+    type Err = Error;
+
+    /// [`Method::from_name`].
+    fn from_str(name: &str) -> Result<Self, Error> {
+        Self::from_name(name)
+    }
+}
+
+impl fmt::Display for Method {
+    /// [`Method::name`].
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Everything a [`Method`] needs besides the connection: the phase function
+/// at `x1`, how rays leave the receiver `x2` (equiangular, distance and the
+/// MIS companion), where the medium is, and its extinction σt (the
+/// free-flight coefficient of distance sampling).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Setup<F: Real, P> {
+    phase: P,
+    directions: Directions<F>,
+    region: Region<F>,
+    sigma_t: F,
+}
+
+impl<F: Real, P: PhaseFunction<F>> Setup<F, P> {
+    /// The setup for `phase` at `x1`, rays from `x2` by `directions`
+    /// through the medium in `region` with extinction `sigma_t` ∈ [0, ∞)
+    /// (an [`Error::OutOfRange`] for field `sigma_t` otherwise, NaN
+    /// included). σt = 0 makes distance sampling uniform on bounded
+    /// segments and gives it no vertex on unbounded ones.
+    pub fn new(
+        phase: P,
+        directions: Directions<F>,
+        region: Region<F>,
+        sigma_t: F,
+    ) -> Result<Self, Error> {
+        check_closed("sigma_t", sigma_t.to_f64(), 0.0, f64::MAX, "[0, inf)")?;
+        Ok(Self {
+            phase,
+            directions,
+            region,
+            sigma_t,
+        })
+    }
+
+    /// The same setup with rays from `x2` drawn by `directions` (a renderer
+    /// sets the receiver's cosine-weighted directions per shading point; σt
+    /// stays checked).
+    pub fn with_directions(&self, directions: Directions<F>) -> Self
+    where
+        P: Clone,
+    {
+        Self {
+            phase: self.phase.clone(),
+            directions,
+            region: self.region,
+            sigma_t: self.sigma_t,
+        }
+    }
+
+    /// The phase function at `x1`.
+    pub fn phase(&self) -> &P {
+        &self.phase
+    }
+
+    /// How rays leave the receiver.
+    pub fn directions(&self) -> Directions<F> {
+        self.directions
+    }
+
+    /// Where the medium is.
+    pub fn region(&self) -> Region<F> {
+        self.region
+    }
+
+    /// The extinction σt.
+    pub fn sigma_t(&self) -> F {
+        self.sigma_t
+    }
+
+    /// One draw of `method` for `connection` (whose θmax is the
+    /// integrand's), the uniform numbers in `[0, 1)` pulled from `next` as
+    /// the method needs them: three, or six for [`Method::Mis`] (OMNEE's,
+    /// then the companion's). The estimate is [`Draw::sum`] of
+    /// `f_c · weight` over its vertices.
+    pub fn draw(
+        &self,
+        method: Method,
+        connection: Connection<F>,
+        next: impl FnMut() -> F,
+    ) -> Draw<F> {
+        match method {
+            Method::Omnee => Draw::single(&self.omnee(connection), next),
+            Method::Equiangular => Draw::single(&self.equiangular(connection), next),
+            Method::Distance => Draw::single(&self.distance(connection), next),
+            Method::Mis => {
+                let companion = self.equiangular(connection);
+                OmneeMis::recommended(self.omnee(connection), &companion).draw(next)
+            }
+        }
+    }
+
+    /// [`Setup::draw`] with the numbers from a `rand_core` generator
+    /// ([`crate::sampling::uniform`]).
+    pub fn draw_with<R: rand_core::Rng + ?Sized>(
+        &self,
+        method: Method,
+        connection: Connection<F>,
+        rng: &mut R,
+    ) -> Draw<F> {
+        self.draw(method, connection, || crate::sampling::uniform(rng))
+    }
+
+    /// The volume density the vertices of `method` come with at `x1`: the
+    /// technique's [`Technique::pdf`], for [`Method::Mis`] the combined
+    /// density [`OmneeMis::pdf`] (`p_O + c p_C` behind the cone, `p_O` in
+    /// front of it).
+    pub fn pdf(&self, method: Method, connection: Connection<F>, x1: F::Vec3) -> F {
+        match method {
+            Method::Omnee => self.omnee(connection).pdf(x1),
+            Method::Equiangular => self.equiangular(connection).pdf(x1),
+            Method::Distance => self.distance(connection).pdf(x1),
+            Method::Mis => {
+                let companion = self.equiangular(connection);
+                OmneeMis::recommended(self.omnee(connection), &companion).pdf(x1)
+            }
+        }
+    }
+
+    #[inline]
+    fn omnee(&self, connection: Connection<F>) -> Omnee<F, &P> {
+        Omnee::new(connection, &self.phase)
+    }
+
+    #[inline]
+    fn equiangular(&self, connection: Connection<F>) -> Equiangular<F, &P> {
+        Equiangular::new(connection, &self.phase, self.directions, self.region)
+    }
+
+    /// Distance sampling with σ = σt, checked by [`Setup::new`].
+    #[inline]
+    fn distance(&self, connection: Connection<F>) -> Distance<F, &P> {
+        Distance::with_checked_sigma(
+            connection,
+            &self.phase,
+            self.directions,
+            self.region,
+            self.sigma_t,
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::phase::HenyeyGreenstein;
+    use crate::rng::SplitMix64;
+    use crate::sampling::{Sample, uniform};
+    use glam::DVec3;
+
+    #[test]
+    fn names_round_trip_and_an_unknown_name_lists_the_allowed_ones() {
+        let names: std::vec::Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
+        assert_eq!(names.join(", "), Method::ALLOWED);
+        for m in Method::ALL {
+            assert_eq!(Method::from_name(m.name()), Ok(m));
+            assert_eq!(m.name().parse::<Method>(), Ok(m));
+            assert_eq!(std::format!("{m}"), m.name());
+        }
+        for bad in ["", "OMNEE", "auto", "omnee ", "equi"] {
+            let e = Method::from_name(bad).unwrap_err();
+            assert_eq!(e.field(), "technique");
+            let message = std::format!("{e}");
+            assert!(
+                message.ends_with(&std::format!("allowed: {}", Method::ALLOWED)),
+                "{bad:?}: {message}"
+            );
+        }
+    }
+
+    #[test]
+    fn an_invalid_sigma_t_is_an_error_at_construction() {
+        let setup = |sigma_t: f64| {
+            Setup::new(
+                HenyeyGreenstein::new(0.5).unwrap(),
+                Directions::Sphere,
+                Region::Everywhere,
+                sigma_t,
+            )
+        };
+        for bad in [-1e-300, -1.0, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            let e = setup(bad).unwrap_err();
+            assert_eq!(e.field(), "sigma_t", "{bad}");
+        }
+        for good in [0.0, 1e-300, 0.55, 1e300] {
+            assert_eq!(setup(good).unwrap().sigma_t(), good);
+        }
+        let cosine = Directions::cosine(DVec3::Z).unwrap();
+        let turned = setup(0.55).unwrap().with_directions(cosine);
+        assert_eq!(turned.directions(), cosine);
+        assert_eq!(
+            (turned.sigma_t(), turned.region()),
+            (0.55, Region::Everywhere)
+        );
+        assert_eq!(turned.phase(), setup(0.55).unwrap().phase());
+    }
+
+    /// The setup of the tests: HG 0.7 in a slab, cosine directions about a
+    /// tilted normal (equiangular and distance sampling then miss now and
+    /// then), and a connection with θmax = π.
+    fn setup() -> (Setup<f64, HenyeyGreenstein<f64>>, Connection<f64>) {
+        let s = Setup::new(
+            HenyeyGreenstein::new(0.7).unwrap(),
+            Directions::cosine(DVec3::new(0.3, -0.2, 1.0)).unwrap(),
+            Region::slab(-0.5, 2.0).unwrap(),
+            1.3,
+        )
+        .unwrap();
+        let c = Connection::new(
+            DVec3::new(0.2, -0.1, 1.3),
+            DVec3::new(0.5, 0.3, 0.4),
+            core::f64::consts::PI,
+        )
+        .unwrap();
+        (s, c)
+    }
+
+    /// The vertices of `method`'s technique for the numbers `u`, sampled
+    /// directly.
+    fn direct(
+        s: &Setup<f64, HenyeyGreenstein<f64>>,
+        method: Method,
+        c: Connection<f64>,
+        u: [f64; 6],
+    ) -> [Option<Sample<f64>>; 2] {
+        let (p, d, r) = (*s.phase(), s.directions(), s.region());
+        let first = [u[0], u[1], u[2]];
+        let equiangular = Equiangular::new(c, p, d, r);
+        match method {
+            Method::Omnee => [Omnee::new(c, p).sample(first), None],
+            Method::Equiangular => [equiangular.sample(first), None],
+            Method::Distance => [
+                Distance::new(c, p, d, r, s.sigma_t())
+                    .unwrap()
+                    .sample(first),
+                None,
+            ],
+            Method::Mis => OmneeMis::recommended(Omnee::new(c, p), &equiangular).sample(u),
+        }
+    }
+
+    #[test]
+    fn a_draw_is_its_techniques_sample_of_the_numbers_it_took() {
+        let (setup, c) = setup();
+        for method in Method::ALL {
+            let mut rng = SplitMix64::new(0x5eed + method as u64);
+            let (mut vertices, mut companions) = (0, 0);
+            for _ in 0..4000 {
+                let mut pulled = std::vec::Vec::new();
+                let mut replay = rng.clone();
+                let draw = setup.draw(method, c, || {
+                    let x = uniform(&mut rng);
+                    pulled.push(x);
+                    x
+                });
+                let want = if method == Method::Mis { 6 } else { 3 };
+                assert_eq!(draw.taken, want, "{method}");
+                assert_eq!(draw.numbers(), &pulled[..], "{method}");
+                assert!(draw.u[draw.taken..].iter().all(|&x| x == 0.0));
+                assert_eq!(draw.vertices, direct(&setup, method, c, draw.u), "{method}");
+                // The generator convenience draws the same numbers.
+                assert_eq!(setup.draw_with(method, c, &mut replay), draw, "{method}");
+                assert_eq!(replay, rng);
+                for (k, s) in draw.vertices.iter().enumerate() {
+                    let Some(s) = s else { continue };
+                    vertices += 1;
+                    companions += k;
+                    let (d, _, _) = c.deflection(s.x1).unwrap();
+                    let edge = d.one_minus_cos / (1.0 + core::f64::consts::FRAC_1_SQRT_2) - 1.0;
+                    if method == Method::Mis && edge.abs() < 1e-9 {
+                        continue; // on the cone's edge, classified either way
+                    }
+                    let pdf = setup.pdf(method, c, s.x1);
+                    assert!((pdf / s.pdf - 1.0).abs() < 1e-9, "{method}: {pdf} vs {s:?}");
+                }
+            }
+            assert!(vertices > 1000, "{method}: {vertices} vertices");
+            assert_eq!(companions > 0, method == Method::Mis, "{method}");
+        }
+    }
+}
