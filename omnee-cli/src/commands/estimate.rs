@@ -184,13 +184,16 @@ impl LobeArgs {
     }
 }
 
+/// A phase function's lobe at `x0`, borrowing the phase function.
+type PhaseAt<'p, F> = PhaseLobe<F, &'p Phase<'p, F>>;
+
 /// The technique with a lobe at `x0`.
 #[derive(Clone, Copy)]
 pub enum LobeTechnique<'p, F: Real> {
     /// OMNEE, the lobe in its weight.
-    Omnee(WithLobe<F, Omnee<F, &'p Phase<'p, F>>, PhaseLobe<F, &'p Phase<'p, F>>>),
+    Omnee(WithLobe<F, Omnee<F, &'p Phase<'p, F>>, PhaseAt<'p, F>>),
     /// The recommended combination.
-    Mis(LobeMis<F, PhaseLobe<F, &'p Phase<'p, F>>, &'p Phase<'p, F>>),
+    Mis(LobeMis<F, PhaseAt<'p, F>, &'p Phase<'p, F>>),
 }
 
 impl<F: Real> LobeTechnique<'_, F> {
