@@ -169,12 +169,12 @@ mod tests {
         let m = invalid_name(&e).unwrap().to_string();
         assert_eq!(
             m,
-            "--terms = \"glow\" is not a term; allowed: direct, once-more, view"
+            "--terms = \"glow\" is not a term; allowed: direct, once-more, view, caustics, caustics-once-more, shafts"
         );
         let e = Cli::try_parse_from(["omnee", "default-scene", "moon"]).unwrap_err();
         let m = invalid_name(&e).unwrap().to_string();
         assert!(
-            m.contains("\"moon\" is not a scene; allowed: default"),
+            m.contains("\"moon\" is not a scene; allowed: default, underwater"),
             "{m}"
         );
         let e = Cli::try_parse_from(["omnee", "render", "--spp", "x"]).unwrap_err();

@@ -15,6 +15,8 @@
 //!   pinhole camera.
 //! - [`render`]: the render loop (passes, budget, progress, layers), which
 //!   does not know what a pixel sample computes.
+//! - [`underwater`]: the underwater scene (sun, waves, chromatic water, sand
+//!   floor), light traced and splatted, with its own scene file and loop.
 //! - Shared helpers: [`names`] (closed sets of names), [`term`], [`range`]
 //!   (range checks), [`parallel`] (threads, chunks), [`moments`], [`stats`],
 //!   [`rng`], [`image`] (EXR, PNG), [`output`] (output paths, atomic
@@ -37,4 +39,5 @@ pub mod scene;
 pub mod stats;
 pub mod technique;
 pub mod term;
+pub mod underwater;
 pub mod world;

@@ -17,6 +17,7 @@
 //! - [`phase`]: phase functions with cancellation-free angles;
 //! - [`sampling`]: OMNEE and its baselines, equiangular and distance sampling,
 //!   and a vectorised batch entry point for OMNEE with Henyey–Greenstein;
+//! - [`lobe`]: a lobe at `x0`: its technique, its MIS with OMNEE, a 3-D reference;
 //! - [`mis`]: multiple importance sampling over any set of techniques, and
 //!   [`mis::OmneeMis`], OMNEE with a companion behind a backward cone;
 //! - [`method`]: the techniques by name ([`method::Method`]) and the
@@ -99,6 +100,7 @@ extern crate std;
 
 pub mod circumcircle;
 pub mod error;
+pub mod lobe;
 pub mod medium;
 pub mod method;
 pub mod mis;

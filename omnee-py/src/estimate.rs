@@ -8,7 +8,7 @@
 
 use crate::error;
 use crate::phase::Phase;
-use omnee_cli::commands::estimate::{EstimateArgs, estimate as run};
+use omnee_cli::commands::estimate::{EstimateArgs, LobeArgs, estimate as run};
 use omnee_cli::commands::problem::{Names, Precision, ProblemArgs};
 use omnee_cli::names;
 use omnee_cli::technique::Technique;
@@ -103,6 +103,7 @@ pub fn estimate<'py>(
                 None => Precision::F32,
             },
         },
+        lobe: LobeArgs::default(),
         samples: unsigned("samples", samples, "[1, 2^40]")?,
         reference,
         threads,

@@ -13,5 +13,6 @@ pub mod merge;
 pub mod probe;
 pub mod problem;
 pub mod render;
+pub mod render_underwater;
 pub mod samples;
 pub mod summary;

@@ -86,6 +86,13 @@ impl Names {
             Names::Fields => field.to_string(),
         }
     }
+
+    /// Several fields named by [`Names::of`], joined by `/` (the fields a
+    /// core constructor's parameters came from).
+    pub fn list(self, fields: &[&str]) -> String {
+        let names: Vec<String> = fields.iter().map(|f| self.of(f)).collect();
+        names.join("/")
+    }
 }
 
 /// The checked problem in f64.
@@ -204,10 +211,7 @@ pub fn with_sampler<F: Real, T>(
     p: &Problem,
     f: impl FnOnce(&Sampler<'_, F>) -> T,
 ) -> Result<T> {
-    let name = |fields: &[&str]| {
-        let names: Vec<String> = fields.iter().map(|f| p.names.of(f)).collect();
-        names.join("/")
-    };
+    let name = |fields: &[&str]| p.names.list(fields);
     let connection =
         Connection::<F>::new(vec3::<F>(a.x0), vec3::<F>(a.x2), F::from_f64(a.theta_max))
             .map_err(|e| core_error(&name(&["x0", "x2", "theta_max"]), e))?;

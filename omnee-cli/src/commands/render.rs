@@ -97,28 +97,60 @@ pub struct RenderArgs {
     pub json: bool,
 }
 
+/// What a scene gives when an option is left out.
+pub(super) struct Defaults {
+    pub(super) spp: u32,
+    pub(super) seed: u64,
+    pub(super) width: u32,
+    pub(super) height: u32,
+    pub(super) terms: Vec<Term>,
+    pub(super) theta_max: f64,
+    pub(super) russian_roulette: f64,
+    pub(super) exposure: Option<f64>,
+    pub(super) technique: Technique,
+}
+
 /// The options checked against their ranges, the scene's settings filled in.
-struct Settings {
-    budget: Budget,
-    seed: u64,
-    width: u32,
-    height: u32,
-    crop: [u32; 4],
+pub(super) struct Settings {
+    pub(super) budget: Budget,
+    pub(super) seed: u64,
+    pub(super) width: u32,
+    pub(super) height: u32,
+    pub(super) crop: [u32; 4],
     /// As asked for (reported as given).
-    terms: Vec<Term>,
-    theta_max: f64,
-    russian_roulette: f64,
-    exposure: Option<f64>,
-    technique: Technique,
-    exr: Option<PathBuf>,
-    png: Option<PathBuf>,
+    pub(super) terms: Vec<Term>,
+    pub(super) theta_max: f64,
+    pub(super) russian_roulette: f64,
+    pub(super) exposure: Option<f64>,
+    pub(super) technique: Technique,
+    pub(super) exr: Option<PathBuf>,
+    pub(super) png: Option<PathBuf>,
 }
 
 impl Settings {
     /// Checks `a`, taking what it leaves out from the scene's `[render]`
     /// and `[camera]`; also checks that the outputs' folder exists.
     fn new(a: &RenderArgs, scene: &Scene) -> Result<Self> {
-        let s = &scene.render;
+        let r = &scene.render;
+        Self::with_defaults(
+            a,
+            &Defaults {
+                spp: r.spp,
+                seed: r.seed,
+                width: scene.camera.width,
+                height: scene.camera.height,
+                terms: r.terms.clone(),
+                theta_max: r.theta_max,
+                russian_roulette: r.russian_roulette,
+                exposure: r.exposure,
+                technique: r.technique,
+            },
+        )
+    }
+
+    /// Checks `a`, taking what it leaves out from `s`; also checks that the
+    /// outputs' folder exists.
+    pub(super) fn with_defaults(a: &RenderArgs, s: &Defaults) -> Result<Self> {
         let budget = match (a.spp, a.time) {
             (Some(n), _) => {
                 Range::closed(1.0, (1u64 << 24) as f64).check("--spp", n as f64)?;
@@ -127,9 +159,7 @@ impl Settings {
             (None, Some(t)) => Budget::Seconds(Range::POSITIVE.check("--time", t)?),
             (None, None) => Budget::Spp(s.spp),
         };
-        let (width, height) = a
-            .resolution
-            .unwrap_or((scene.camera.width, scene.camera.height));
+        let (width, height) = a.resolution.unwrap_or((s.width, s.height));
         let crop = a.crop.unwrap_or([0, 0, width, height]);
         if !(crop[0] < crop[2] && crop[1] < crop[3] && crop[2] <= width && crop[3] <= height) {
             return Err(CliError::range(
@@ -173,8 +203,12 @@ impl Settings {
 
 /// `omnee render`.
 pub fn run(a: RenderArgs) -> Result<()> {
+    if let Some(scene) = super::render_underwater::scene(&a.scene)? {
+        return super::render_underwater::run(a, scene);
+    }
     let scene = Scene::from_source(&a.scene)?;
     let set = Settings::new(&a, &scene)?;
+    crate::term::check("--terms", &set.terms, &crate::term::SLAB, "slab")?;
     let mut storage = TableStorage::<f32>::default();
     let world = World::new(&scene, scene.medium.phase.instantiate::<f32>(&mut storage)?)?;
     let g = world.phase().mean_cosine() as f64;
@@ -246,7 +280,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
 
 /// Writes the EXR, the PNG and the layer PNGs asked for; returns the PNG's
 /// exposure (stops).
-fn write_images(
+pub(super) fn write_images(
     a: &RenderArgs,
     set: &Settings,
     layers: &Layers,

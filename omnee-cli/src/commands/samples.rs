@@ -2,7 +2,7 @@
 //! and estimate, as CSV or JSON.
 
 use super::args::check_count;
-use super::estimate::STREAM;
+use super::estimate::{Lobe, LobeArgs, STREAM, lobe_technique_json, with_lobe};
 use super::problem::{Precision, Problem, ProblemArgs, with_sampler, x1_f64};
 use super::summary::choice_json;
 use crate::error::{CliError, Result};
@@ -28,6 +28,9 @@ pub struct SamplesArgs {
     /// The problem.
     #[command(flatten)]
     pub problem: ProblemArgs,
+    /// A lobe at x0.
+    #[command(flatten)]
+    pub lobe: LobeArgs,
     /// Number of draws (draws that give no x1 are not listed).
     #[arg(long, default_value_t = 1000)]
     pub count: u64,
@@ -53,9 +56,12 @@ struct Row {
 pub fn run(a: SamplesArgs) -> Result<()> {
     let count = check_count("--count", a.count)?;
     let p = Problem::new(&a.problem)?;
-    let rows = match a.problem.precision {
-        Precision::F32 => rows::<f32>(&a.problem, &p, count)?,
-        Precision::F64 => rows::<f64>(&a.problem, &p, count)?,
+    let lobe = a.lobe.check()?;
+    let (rows, c) = match (&lobe, a.problem.precision) {
+        (None, Precision::F32) => (rows::<f32>(&a.problem, &p, count)?, None),
+        (None, Precision::F64) => (rows::<f64>(&a.problem, &p, count)?, None),
+        (Some(l), Precision::F32) => lobe_rows::<f32>(&a.problem, &p, l, count)?,
+        (Some(l), Precision::F64) => lobe_rows::<f64>(&a.problem, &p, l, count)?,
     };
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     let w = |r: std::io::Result<()>| {
@@ -94,10 +100,15 @@ pub fn run(a: SamplesArgs) -> Result<()> {
                            "weight": r.weight, "estimate": r.estimate})
                 })
                 .collect();
-            let (tech, requested, reason) = choice_json(&p.choice);
+            let (mut tech, requested, mut reason) = choice_json(&p.choice);
+            if let Some(c) = c {
+                (tech, reason) = lobe_technique_json(a.problem.technique, c);
+            }
             let v = json!({
                 "technique": tech, "technique_requested": requested, "auto_reason": reason,
                 "draws": count, "returned": rows.len(), "samples": list,
+                "x0_phase": lobe.as_ref().map(|l| l.phase.to_string()),
+                "x0_incoming": lobe.as_ref().map(|l| l.incoming), "lobe_probability": c,
             });
             w(writeln!(out, "{v}"))?;
         }
@@ -130,5 +141,37 @@ fn rows<F: Real>(a: &ProblemArgs, p: &Problem, count: u64) -> Result<Vec<Row>> {
             }
         }
         rows
+    })
+}
+
+/// The vertices of `count` draws with a lobe at `x0` (one vertex a draw,
+/// from three uniform numbers, in the streams of `estimate`), and the lobe
+/// technique's probability.
+fn lobe_rows<F: Real>(
+    a: &ProblemArgs,
+    p: &Problem,
+    lobe: &Lobe,
+    count: u64,
+) -> Result<(Vec<Row>, Option<f64>)> {
+    with_lobe::<F, _>(a, p, lobe, |t, problem| {
+        let mut rows = Vec::new();
+        for (k, n) in chunks(count) {
+            let mut rng = Rng::stream(a.seed, k, STREAM);
+            for j in 0..n {
+                let u: [F; 3] = [rng.uniform(), rng.uniform(), rng.uniform()];
+                if let Some(s) = t.sample(u) {
+                    rows.push(Row {
+                        draw: k * CHUNK + j,
+                        vertex: 0,
+                        u: u.map(|x| x.to_f64()),
+                        x1: x1_f64(&s),
+                        pdf: s.pdf.to_f64(),
+                        weight: s.weight.to_f64(),
+                        estimate: problem.estimate(&s).to_f64(),
+                    });
+                }
+            }
+        }
+        Ok((rows, Some(t.probability())))
     })
 }

@@ -35,6 +35,8 @@ const SECTIONS: [&str; 6] = ["medium", "floor", "light", "occluder", "camera", "
 pub enum Builtin {
     /// the slab scene: a small sphere light in a water-like slab over a checkered floor, a perforated plate between them
     Default,
+    /// the talk's scene: the sun through a wavy water surface, caustics on the sand, blurred with depth
+    Underwater,
 }
 
 crate::names::display_by_name!(Builtin);
@@ -44,6 +46,7 @@ impl Builtin {
     pub fn text(self) -> &'static str {
         match self {
             Builtin::Default => DEFAULT_SCENE,
+            Builtin::Underwater => crate::underwater::scene::UNDERWATER_SCENE,
         }
     }
 }

@@ -91,6 +91,9 @@ impl World<'_> {
                     let roulette = Roulette::new(how.roulette);
                     Vec3::splat(self.view(o, d, hit.t(), rng, roulette, stats))
                 }
+                // The underwater scene's terms: `render` refuses them for
+                // this scene (term::check) before any sample is drawn.
+                Term::Caustics | Term::CausticsOnceMore | Term::Shafts => Vec3::ZERO,
             };
         }
     }

@@ -11,7 +11,8 @@
 //! One test binary, a module per area: [`render`] (images, terms, crops,
 //! skipping), [`io`] (bad input, file safety, scene choice, help),
 //! [`probe`], [`estimate`] (`estimate`, `samples`, tables) and [`reference`]
-//! (a render against the stored reference); [`common`] runs the binary.
+//! (a render against the stored reference), [`underwater`] (the underwater
+//! scene through the command line); [`common`] runs the binary.
 
 mod common;
 mod estimate;
@@ -19,3 +20,4 @@ mod io;
 mod probe;
 mod reference;
 mod render;
+mod underwater;
