@@ -443,17 +443,9 @@ impl Equiangular {
         normal: Option<&Bound<'_, PyAny>>,
         slab: Option<(f64, f64)>,
     ) -> PyResult<PyClassInitializer<Self>> {
-        Ok(technique(
-            Method::Equiangular,
-            x0,
-            x2,
-            phase,
-            theta_max,
-            normal,
-            slab,
-            0.0,
-        )?
-        .add_subclass(Equiangular))
+        let method = Method::Equiangular;
+        let base = technique(method, x0, x2, phase, theta_max, normal, slab, 0.0)?;
+        Ok(base.add_subclass(Equiangular))
     }
 }
 
@@ -478,16 +470,8 @@ impl Distance {
         normal: Option<&Bound<'_, PyAny>>,
         slab: Option<(f64, f64)>,
     ) -> PyResult<PyClassInitializer<Self>> {
-        let base = technique(
-            Method::Distance,
-            x0,
-            x2,
-            phase,
-            theta_max,
-            normal,
-            slab,
-            sigma_t,
-        )?;
+        let method = Method::Distance;
+        let base = technique(method, x0, x2, phase, theta_max, normal, slab, sigma_t)?;
         Ok(base.add_subclass(Distance))
     }
 }
