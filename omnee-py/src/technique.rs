@@ -11,7 +11,7 @@ use crate::error;
 use crate::phase::{PARALLEL_MIN, Phase};
 use omnee_cli::phase::TableStorage;
 use omnee_core::medium::Region;
-use omnee_core::mis::OmneeMis;
+use omnee_core::method::{Method, Setup};
 use omnee_core::phase::Phase as CorePhase;
 use omnee_core::sampling::{
     Connection, Directions, Distance as CoreDistance, Equiangular as CoreEquiangular,
@@ -23,39 +23,30 @@ use pyo3::prelude::*;
 use rayon::prelude::*;
 use std::f64::consts::PI;
 
-/// Which technique.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Kind {
-    Omnee,
-    Equiangular,
-    Distance,
-    Mis,
+/// Uniform numbers per draw of `method`: 3, or 6 for MIS (OMNEE's, then
+/// the companion's).
+fn uniforms(method: Method) -> usize {
+    match method {
+        Method::Mis => 6,
+        _ => 3,
+    }
 }
 
-impl Kind {
-    /// Uniform numbers per draw.
-    fn uniforms(self) -> usize {
-        match self {
-            Kind::Mis => 6,
-            _ => 3,
-        }
+/// Vertices per draw of `method`: 1, or 2 for MIS.
+fn vertices(method: Method) -> usize {
+    match method {
+        Method::Mis => 2,
+        _ => 1,
     }
+}
 
-    /// Vertices per draw.
-    fn vertices(self) -> usize {
-        match self {
-            Kind::Mis => 2,
-            _ => 1,
-        }
-    }
-
-    fn name(self) -> &'static str {
-        match self {
-            Kind::Omnee => "Omnee",
-            Kind::Equiangular => "Equiangular",
-            Kind::Distance => "Distance",
-            Kind::Mis => "Mis",
-        }
+/// The Python class of `method`.
+fn class_name(method: Method) -> &'static str {
+    match method {
+        Method::Omnee => "Omnee",
+        Method::Equiangular => "Equiangular",
+        Method::Distance => "Distance",
+        Method::Mis => "Mis",
     }
 }
 
@@ -63,7 +54,7 @@ impl Kind {
 /// constructor; a computation in f32 validates them again in f32).
 #[derive(Clone, Debug)]
 struct Config {
-    kind: Kind,
+    method: Method,
     x0: [f64; 3],
     x2: [f64; 3],
     theta_max: f64,
@@ -72,19 +63,17 @@ struct Config {
     normal: Option<[f64; 3]>,
     /// The slab `z_min ≤ z ≤ z_max` the medium fills; `None`: everywhere.
     slab: Option<(f64, f64)>,
-    /// Distance sampling's free-flight coefficient σt.
+    /// Distance sampling's free-flight coefficient σt (0 for the others).
     sigma_t: f64,
 }
 
-/// The configuration in precision `F`, borrowing the phase function.
+/// The configuration in precision `F`: the core's [`Setup`] (borrowing the
+/// phase function) with the method and the connection it draws for.
 #[derive(Clone, Copy)]
 struct Parts<'a, F: Real> {
-    kind: Kind,
+    method: Method,
     connection: Connection<F>,
-    phase: &'a CorePhase<'a, F>,
-    directions: Directions<F>,
-    region: Region<F>,
-    sigma_t: F,
+    setup: Setup<F, &'a CorePhase<'a, F>>,
 }
 
 impl Config {
@@ -109,97 +98,77 @@ impl Config {
         };
         let mut storage = TableStorage::<F>::default();
         let phase = self.phase.instantiate::<F>(&mut storage)?;
-        let parts = Parts {
-            kind: self.kind,
+        let setup = Setup::new(&phase, directions, region, F::from_f64(self.sigma_t))
+            .map_err(error::core)?;
+        Ok(f(Parts {
+            method: self.method,
             connection,
-            phase: &phase,
-            directions,
-            region,
-            sigma_t: F::from_f64(self.sigma_t),
-        };
-        if self.kind == Kind::Distance {
-            parts.distance().map_err(error::core)?;
-        }
-        Ok(f(parts))
+            setup,
+        }))
     }
 }
 
 /// One draw's vertices (the second only for MIS's companion).
-type Draw<F> = [Option<Sample<F>>; 2];
+type Vertices<F> = [Option<Sample<F>>; 2];
 
-impl<'a, F: Real> Parts<'a, F> {
-    fn omnee(&self) -> CoreOmnee<F, &'a CorePhase<'a, F>> {
-        CoreOmnee::new(self.connection, self.phase)
+impl<F: Real> Parts<'_, F> {
+    /// The draws for consecutive rows of `uniforms(method)` numbers, each
+    /// row the number source of one [`Setup::draw`].
+    fn draws(&self, u: &[F]) -> Vec<Vertices<F>> {
+        u.chunks_exact(uniforms(self.method))
+            .map(|row| {
+                let mut next = row.iter().copied();
+                let draw = self.setup.draw(self.method, self.connection, || {
+                    next.next().unwrap_or(F::ZERO)
+                });
+                draw.vertices
+            })
+            .collect()
     }
 
-    fn equiangular(&self) -> CoreEquiangular<F, &'a CorePhase<'a, F>> {
-        CoreEquiangular::new(self.connection, self.phase, self.directions, self.region)
-    }
-
-    fn distance(&self) -> Result<CoreDistance<F, &'a CorePhase<'a, F>>, omnee_core::Error> {
-        CoreDistance::new(
-            self.connection,
-            self.phase,
-            self.directions,
-            self.region,
-            self.sigma_t,
-        )
-    }
-
-    /// `f` with the technique as a trait object (not for MIS, whose draw is
-    /// two vertices).
-    fn single<T>(&self, f: impl FnOnce(&dyn CoreTechnique<F>) -> T) -> T {
-        match self.kind {
-            Kind::Omnee => f(&self.omnee()),
-            Kind::Equiangular => f(&self.equiangular()),
-            Kind::Distance => f(&self
-                .distance()
-                .expect("sigma_t was checked when the parts were built")),
-            Kind::Mis => unreachable!("MIS is not a single technique"),
-        }
-    }
-
-    /// `f` with MIS as the CLI's `mis`: OMNEE over the whole range and,
-    /// with probability 0.05, an equiangular companion behind θ = 3π/4.
-    fn mis<T>(&self, f: impl FnOnce(&OmneeMis<'_, F, &'a CorePhase<'a, F>>) -> T) -> T {
-        let companion = self.equiangular();
-        f(&OmneeMis::recommended(self.omnee(), &companion))
-    }
-
-    /// The draws for consecutive tuples of `kind.uniforms()` numbers.
-    fn draws(&self, u: &[F]) -> Vec<Draw<F>> {
-        let k = self.kind.uniforms();
-        match self.kind {
-            Kind::Mis => self.mis(|m| {
-                u.chunks_exact(k)
-                    .map(|u| m.sample(core::array::from_fn(|i| u[i])))
-                    .collect()
-            }),
-            _ => self.single(|t| {
-                u.chunks_exact(k)
-                    .map(|u| [t.sample([u[0], u[1], u[2]]), None])
-                    .collect()
-            }),
-        }
-    }
-
-    /// The density the vertices come with, at each point.
+    /// The density the vertices come with, at each point ([`Setup::pdf`]).
     fn pdfs(&self, x1: &[F]) -> Vec<F> {
-        let points = x1.chunks_exact(3).map(|p| F::Vec3::new(p[0], p[1], p[2]));
-        match self.kind {
-            Kind::Mis => self.mis(|m| points.map(|p| m.pdf(p)).collect()),
-            _ => self.single(|t| points.map(|p| t.pdf(p)).collect()),
-        }
+        x1.chunks_exact(3)
+            .map(|p| {
+                let x1 = F::Vec3::new(p[0], p[1], p[2]);
+                self.setup.pdf(self.method, self.connection, x1)
+            })
+            .collect()
     }
 
-    /// The uniform numbers that give each point, where the map is invertible.
-    fn inverses(&self, x1: &[F]) -> Vec<Option<[F; 3]>> {
-        self.single(|t| {
-            x1.chunks_exact(3)
-                .map(|p| t.invert(F::Vec3::new(p[0], p[1], p[2])))
-                .collect()
+    /// `f` with the method's own technique, whose [`CoreTechnique::invert`]
+    /// gives the uniform numbers of a point (the core's [`Setup`] has no
+    /// inverse); MIS has none (OMNEE and the companion can draw the same
+    /// point).
+    fn invertible<T>(&self, f: impl FnOnce(&(dyn CoreTechnique<F> + Sync)) -> T) -> PyResult<T> {
+        let (s, c) = (&self.setup, self.connection);
+        let (phase, directions, region) = (*s.phase(), s.directions(), s.region());
+        Ok(match self.method {
+            Method::Omnee => f(&CoreOmnee::new(c, phase)),
+            Method::Equiangular => f(&CoreEquiangular::new(c, phase, directions, region)),
+            Method::Distance => f(
+                &CoreDistance::new(c, phase, directions, region, s.sigma_t())
+                    .map_err(error::core)?,
+            ),
+            Method::Mis => return Err(mis_not_invertible()),
         })
     }
+}
+
+/// The uniform numbers that give each point of `x1`, where `technique`'s
+/// map is invertible.
+fn inverses<F: Real>(technique: &dyn CoreTechnique<F>, x1: &[F]) -> Vec<Option<[F; 3]>> {
+    x1.chunks_exact(3)
+        .map(|p| technique.invert(F::Vec3::new(p[0], p[1], p[2])))
+        .collect()
+}
+
+/// `Mis.invert`'s error.
+fn mis_not_invertible() -> PyErr {
+    PyNotImplementedError::new_err(
+        "Mis.invert: MIS is not invertible (OMNEE and the companion can draw the same x1); \
+         invert Omnee or Equiangular",
+    )
 }
 
 /// `f` over `data` in tuples of `k`, in parallel for long inputs, results in order.
@@ -230,12 +199,12 @@ impl Technique {
         py: Python<'py>,
         u: Values<F>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let kind = self.config.kind;
-        let lead = u.rows("u", kind.uniforms())?;
+        let method = self.config.method;
+        let lead = u.rows("u", uniforms(method))?;
         let draws = self.config.with::<F, _>(|parts| {
-            py.detach(|| chunked(&u.data, kind.uniforms(), |u| parts.draws(u)))
+            py.detach(|| chunked(&u.data, uniforms(method), |u| parts.draws(u)))
         })?;
-        let vertices = kind.vertices();
+        let vertices = vertices(method);
         let n = draws.len() * vertices;
         let (mut x1, mut pdf, mut weight, mut valid) = (
             Vec::with_capacity(3 * n),
@@ -287,9 +256,9 @@ impl Technique {
         x1: Values<F>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let lead = x1.rows("x1", 3)?;
-        let inverses = self
-            .config
-            .with::<F, _>(|parts| py.detach(|| chunked(&x1.data, 3, |x| parts.inverses(x))))?;
+        let inverses = self.config.with::<F, _>(|parts| {
+            parts.invertible(|t| py.detach(|| chunked(&x1.data, 3, |x| inverses(t, x))))
+        })??;
         let u: Vec<F> = inverses
             .iter()
             .flat_map(|u| u.unwrap_or([F::ZERO; 3]))
@@ -326,11 +295,8 @@ impl Technique {
     /// The uniform numbers that `sample` maps to `x1` (shape `(..., 3)`),
     /// returning `Inversion(u, valid)`.
     fn invert<'py>(&self, py: Python<'py>, x1: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        if self.config.kind == Kind::Mis {
-            return Err(PyNotImplementedError::new_err(
-                "Mis.invert: MIS is not invertible (OMNEE and the companion can draw the same x1); \
-                 invert Omnee or Equiangular",
-            ));
+        if self.config.method == Method::Mis {
+            return Err(mis_not_invertible());
         }
         match floats("x1", x1)? {
             Floats::F32(v) => self.invert_in(py, v),
@@ -367,23 +333,23 @@ impl Technique {
     /// Uniform numbers per draw: 3, or 6 for `Mis`.
     #[getter]
     fn dimension(&self) -> usize {
-        self.config.kind.uniforms()
+        uniforms(self.config.method)
     }
 
     fn __repr__(&self) -> String {
         let c = &self.config;
         let mut s = format!(
             "omnee.{}(x0={:?}, x2={:?}, phase={:?}, theta_max={}",
-            c.kind.name(),
+            class_name(c.method),
             c.x0,
             c.x2,
             c.phase.spec.to_string(),
             c.theta_max
         );
-        if c.kind == Kind::Distance {
+        if c.method == Method::Distance {
             s += &format!(", sigma_t={}", c.sigma_t);
         }
-        if c.kind != Kind::Omnee {
+        if c.method != Method::Omnee {
             if let Some(n) = c.normal {
                 s += &format!(", normal={n:?}");
             }
@@ -411,7 +377,7 @@ pub(crate) fn phase_arg(obj: &Bound<'_, PyAny>) -> PyResult<Phase> {
 /// Builds the base class, checking the configuration in f64.
 #[allow(clippy::too_many_arguments)]
 fn technique(
-    kind: Kind,
+    method: Method,
     x0: &Bound<'_, PyAny>,
     x2: &Bound<'_, PyAny>,
     phase: &Bound<'_, PyAny>,
@@ -421,7 +387,7 @@ fn technique(
     sigma_t: f64,
 ) -> PyResult<PyClassInitializer<Technique>> {
     let config = Config {
-        kind,
+        method,
         x0: point("x0", x0)?,
         x2: point("x2", x2)?,
         theta_max,
@@ -450,7 +416,10 @@ impl Omnee {
         phase: &Bound<'_, PyAny>,
         theta_max: f64,
     ) -> PyResult<PyClassInitializer<Self>> {
-        Ok(technique(Kind::Omnee, x0, x2, phase, theta_max, None, None, 0.0)?.add_subclass(Omnee))
+        Ok(
+            technique(Method::Omnee, x0, x2, phase, theta_max, None, None, 0.0)?
+                .add_subclass(Omnee),
+        )
     }
 }
 
@@ -474,8 +443,9 @@ impl Equiangular {
         normal: Option<&Bound<'_, PyAny>>,
         slab: Option<(f64, f64)>,
     ) -> PyResult<PyClassInitializer<Self>> {
-        let kind = Kind::Equiangular;
-        Ok(technique(kind, x0, x2, phase, theta_max, normal, slab, 0.0)?.add_subclass(Equiangular))
+        let method = Method::Equiangular;
+        let base = technique(method, x0, x2, phase, theta_max, normal, slab, 0.0)?;
+        Ok(base.add_subclass(Equiangular))
     }
 }
 
@@ -500,8 +470,8 @@ impl Distance {
         normal: Option<&Bound<'_, PyAny>>,
         slab: Option<(f64, f64)>,
     ) -> PyResult<PyClassInitializer<Self>> {
-        let kind = Kind::Distance;
-        let base = technique(kind, x0, x2, phase, theta_max, normal, slab, sigma_t)?;
+        let method = Method::Distance;
+        let base = technique(method, x0, x2, phase, theta_max, normal, slab, sigma_t)?;
         Ok(base.add_subclass(Distance))
     }
 }
@@ -526,6 +496,6 @@ impl Mis {
         normal: Option<&Bound<'_, PyAny>>,
         slab: Option<(f64, f64)>,
     ) -> PyResult<PyClassInitializer<Self>> {
-        Ok(technique(Kind::Mis, x0, x2, phase, theta_max, normal, slab, 0.0)?.add_subclass(Mis))
+        Ok(technique(Method::Mis, x0, x2, phase, theta_max, normal, slab, 0.0)?.add_subclass(Mis))
     }
 }

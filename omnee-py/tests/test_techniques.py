@@ -190,7 +190,7 @@ def test_non_contiguous_and_big_endian_inputs_equal_their_copies():
         (lambda: omnee.Omnee((0, 0), X2, "iso"), r"x0: shape \(2,\); allowed: \(3,\)"),
         (lambda: omnee.Equiangular(X0, X2, "iso", slab=(1.0, -1.0)), r"z_max = -1 is out of range"),
         (lambda: omnee.Equiangular(X0, X2, "iso", normal=(0, 0, 0)), "normal"),
-        (lambda: omnee.Distance(X0, X2, "iso", sigma_t=-1.0), r"sigma = -1 is out of range; allowed: \[0, inf\)"),
+        (lambda: omnee.Distance(X0, X2, "iso", sigma_t=-1.0), r"sigma_t = -1 is out of range; allowed: \[0, inf\)"),
         (lambda: omnee.Omnee(X0, X2, "hg:2"), r"g = 2 is out of range"),
     ],
 )

@@ -1,16 +1,19 @@
 //! `omnee estimate`: the point-to-point once-more integral in an infinite
 //! homogeneous medium, as mean and standard error, optionally against the
 //! core's quadrature reference.
+//!
+//! [`estimate`] computes (and is the library's entry point: the Python
+//! bindings call it), [`run`] prints.
 
 use super::args::{check_count, parse_vec3, unit_normal};
-use super::problem::{Precision, Problem, ProblemArgs, Sampler, with_sampler};
+use super::problem::{Names, Precision, Problem, ProblemArgs, Sampler, with_sampler};
 use super::summary::{choice_json, print_result};
 use crate::error::{CliError, Result, core_error};
 use crate::moments::Moments;
 use crate::parallel::{chunked, with_threads};
 use crate::phase::{PhaseSpec, TableStorage};
 use crate::rng::Rng;
-use crate::technique::Technique as TechniqueName;
+use crate::technique::{Choice, Technique as TechniqueName};
 use clap::Args;
 use omnee_core::lobe::{LobeMis, LobeToPoint, PhaseLobe, WithLobe};
 use omnee_core::medium::Homogeneous;
@@ -47,36 +50,107 @@ pub struct EstimateArgs {
     pub json: bool,
 }
 
-/// `omnee estimate`.
-pub fn run(a: EstimateArgs) -> Result<()> {
-    let samples = check_count("--samples", a.samples)?;
-    let p = Problem::new(&a.problem)?;
-    let lobe = a.lobe.check()?;
+/// What [`estimate`] computed: the Monte Carlo estimate of the once-more
+/// integral `I = ∫ σs p(θ) e^{−σt (d1 + d2)} [cos θ2] / (d1² d2²) dx1` over
+/// θ < θmax (docs/math.md §1; with a lobe at `x0` its value `p0` towards
+/// `x1` joins the integrand, §12), how it was drawn, and the quadrature
+/// reference if asked for. `omnee estimate --json` prints these fields with
+/// the problem's options.
+#[derive(Clone, Debug)]
+pub struct Estimate {
+    /// The mean `x̄ = Σx/n` of the `n` per-draw estimates `x = Σ_k f_c(x1_k) · weight_k`.
+    pub mean: f64,
+    /// The standard error of the mean, `√((Σx² − x̄ Σx)/((n − 1) n))`.
+    pub stderr: f64,
+    /// The number of draws `n`.
+    pub samples: u64,
+    /// The draws whose own vertex exists (the MIS companion not counted).
+    pub accepted: u64,
+    /// The f64 quadrature value of `I` (docs/math.md §5, §12.5), if asked for.
+    pub reference: Option<f64>,
+    /// Wall-clock time of the draws and the quadrature, in seconds.
+    pub seconds: f64,
+    /// The technique without a lobe at `x0`: what was asked for, the
+    /// method used and, for `auto`, why (with a lobe see
+    /// [`Estimate::lobe_probability`]).
+    pub choice: Choice,
+    /// The phase function at `x1`, as checked.
+    pub phase: PhaseSpec,
+    /// Its mean cosine `g = ⟨cos θ⟩`.
+    pub mean_cosine: f64,
+    /// The optical thickness `τ = σt · |x2 − x0|`.
+    pub tau: f64,
+    /// The receiver's unit normal, if it has a cosine.
+    pub receiver_normal: Option<[f64; 3]>,
+    /// The arithmetic precision of the draws.
+    pub precision: Precision,
+    /// The lobe at `x0`, if there is one.
+    pub lobe: Option<Lobe>,
+    /// With a lobe: the probability `c` with which a draw took the lobe
+    /// technique (0 for OMNEE with the lobe in its weight).
+    pub lobe_probability: Option<f64>,
+}
+
+/// The estimate of `a.problem` (with `a.lobe` at `x0`, if given) from
+/// `a.samples` draws on `a.threads` threads (`a.json` is [`run`]'s only),
+/// naming a bad field by `names`.
+///
+/// Draws come in chunks of [`crate::parallel::CHUNK`], chunk `k` from the
+/// stream `(seed, k, STREAM)`, and the chunks' sums are added in chunk
+/// order: the result depends on the seed and the sample count, never on the
+/// thread count.
+pub fn estimate(a: &EstimateArgs, names: Names) -> Result<Estimate> {
+    let samples = check_count(&names.of("samples"), a.samples)?;
+    let p = Problem::named(&a.problem, names)?;
+    let lobe = a.lobe.named(names)?;
     let start = Instant::now();
-    let (moments, accepted, reference, c) = match (&lobe, a.problem.precision) {
-        (None, Precision::F32) => with_none(estimate::<f32>(&a, &p, samples)?),
-        (None, Precision::F64) => with_none(estimate::<f64>(&a, &p, samples)?),
-        (Some(l), Precision::F32) => estimate_lobe::<f32>(&a, &p, l, samples)?,
-        (Some(l), Precision::F64) => estimate_lobe::<f64>(&a, &p, l, samples)?,
+    let (moments, accepted, reference, lobe_probability) = match (&lobe, a.problem.precision) {
+        (None, Precision::F32) => with_none(sums::<f32>(a, &p, samples)?),
+        (None, Precision::F64) => with_none(sums::<f64>(a, &p, samples)?),
+        (Some(l), Precision::F32) => sums_lobe::<f32>(a, &p, l, samples)?,
+        (Some(l), Precision::F64) => sums_lobe::<f64>(a, &p, l, samples)?,
     };
     let seconds = start.elapsed().as_secs_f64();
     let (mean, stderr) = moments.mean_stderr(samples);
-    let (mut tech, requested, mut reason) = choice_json(&p.choice);
-    if let Some(c) = c {
+    Ok(Estimate {
+        mean,
+        stderr,
+        samples,
+        accepted,
+        reference,
+        seconds,
+        choice: p.choice,
+        phase: p.phase,
+        mean_cosine: p.g,
+        tau: p.tau,
+        receiver_normal: p.normal,
+        precision: a.problem.precision,
+        lobe,
+        lobe_probability,
+    })
+}
+
+/// `omnee estimate`: [`estimate`], printed.
+pub fn run(a: EstimateArgs) -> Result<()> {
+    let e = estimate(&a, Names::Options)?;
+    let (mut tech, requested, mut reason) = choice_json(&e.choice);
+    if let Some(c) = e.lobe_probability {
         (tech, reason) = lobe_technique_json(a.problem.technique, c);
     }
     let pa = &a.problem;
+    let (mean, stderr) = (e.mean, e.stderr);
     let v = json!({
-        "mean": mean, "stderr": stderr, "samples": samples, "seconds": seconds,
+        "mean": mean, "stderr": stderr, "samples": e.samples, "seconds": e.seconds,
         "technique": tech, "technique_requested": requested, "auto_reason": reason,
         "terms": {"once-more": {"mean": mean, "stderr": stderr}},
-        "accepted": accepted, "reference": reference,
-        "x0": pa.x0, "x2": pa.x2, "phase": p.phase.to_string(), "mean_cosine": p.g,
-        "sigma_s": pa.sigma_s, "sigma_t": pa.sigma_t, "tau": p.tau, "theta_max": pa.theta_max,
-        "receiver_normal": p.normal, "seed": pa.seed, "precision": pa.precision.to_string(),
-        "x0_phase": lobe.as_ref().map(|l| l.phase.to_string()),
-        "x0_incoming": lobe.as_ref().map(|l| l.incoming),
-        "lobe_probability": c,
+        "accepted": e.accepted, "reference": e.reference,
+        "x0": pa.x0, "x2": pa.x2, "phase": e.phase.to_string(), "mean_cosine": e.mean_cosine,
+        "sigma_s": pa.sigma_s, "sigma_t": pa.sigma_t, "tau": e.tau, "theta_max": pa.theta_max,
+        "receiver_normal": e.receiver_normal, "seed": pa.seed,
+        "precision": e.precision.to_string(),
+        "x0_phase": e.lobe.as_ref().map(|l| l.phase.to_string()),
+        "x0_incoming": e.lobe.as_ref().map(|l| l.incoming),
+        "lobe_probability": e.lobe_probability,
     });
     print_result(&v, a.json);
     Ok(())
@@ -103,7 +177,7 @@ pub fn lobe_technique_json(t: TechniqueName, c: f64) -> (serde_json::Value, serd
 
 /// The estimator's sums over `samples` draws in precision `F`, the number
 /// of draws whose own vertex exists, and the quadrature if asked for.
-fn estimate<F: Real>(
+fn sums<F: Real>(
     a: &EstimateArgs,
     p: &Problem,
     samples: u64,
@@ -155,6 +229,7 @@ pub struct LobeArgs {
 }
 
 /// The checked lobe at `x0`.
+#[derive(Clone, Debug)]
 pub struct Lobe {
     /// The phase function at `x0`.
     pub phase: PhaseSpec,
@@ -164,21 +239,26 @@ pub struct Lobe {
 
 impl LobeArgs {
     /// The lobe, `None` without the options; an error naming the option
-    /// that is missing or bad.
+    /// that is missing or bad as the command line does ([`Names::Options`]).
     pub fn check(&self) -> Result<Option<Lobe>> {
+        self.named(Names::Options)
+    }
+
+    /// [`LobeArgs::check`], naming the fields by `names`.
+    pub fn named(&self, names: Names) -> Result<Option<Lobe>> {
+        let (phase, incoming) = (names.of("x0_phase"), names.of("x0_incoming"));
         match (&self.x0_phase, self.x0_incoming) {
             (None, None) => Ok(None),
-            (Some(_), None) => Err(CliError::Input(
-                "--x0-phase needs --x0-incoming X,Y,Z (the propagation direction of the light \
+            (Some(_), None) => Err(CliError::Input(format!(
+                "{phase} needs {incoming} X,Y,Z (the propagation direction of the light \
                  arriving at x0)"
-                    .into(),
-            )),
-            (None, Some(_)) => Err(CliError::Input(
-                "--x0-incoming needs --x0-phase SPEC (the phase function at x0)".into(),
-            )),
+            ))),
+            (None, Some(_)) => Err(CliError::Input(format!(
+                "{incoming} needs {phase} SPEC (the phase function at x0)"
+            ))),
             (Some(spec), Some(w)) => Ok(Some(Lobe {
-                phase: PhaseSpec::parse(spec).map_err(|e| e.context("--x0-phase"))?,
-                incoming: unit_normal("--x0-incoming", w)?,
+                phase: PhaseSpec::parse(spec).map_err(|e| e.context(&phase))?,
+                incoming: unit_normal(&incoming, w)?,
             })),
         }
     }
@@ -228,18 +308,18 @@ pub fn with_lobe<F: Real, T>(
 ) -> Result<T> {
     let connection =
         Connection::<F>::new(vec3::<F>(a.x0), vec3::<F>(a.x2), F::from_f64(a.theta_max))
-            .map_err(|e| core_error("--x0/--x2/--theta-max", e))?;
+            .map_err(|e| core_error(&p.names.list(&["x0", "x2", "theta_max"]), e))?;
     let medium = Homogeneous::new(F::from_f64(a.sigma_s), F::from_f64(a.sigma_t - a.sigma_s))
-        .map_err(|e| core_error("--sigma-s/--sigma-t", e))?;
+        .map_err(|e| core_error(&p.names.list(&["sigma_s", "sigma_t"]), e))?;
     let point = PointToPoint::new(connection, medium, p.normal.map(vec3::<F>))
-        .map_err(|e| core_error("--receiver-normal", e))?;
+        .map_err(|e| core_error(&p.names.of("receiver_normal"), e))?;
     let (mut s1, mut s0) = (TableStorage::<F>::default(), TableStorage::<F>::default());
     let p1 = p.phase.instantiate::<F>(&mut s1)?;
     let p0 = lobe.phase.instantiate::<F>(&mut s0)?;
     let l = PhaseLobe::new(&p0, vec3::<F>(lobe.incoming))
-        .map_err(|e| core_error("--x0-incoming", e))?;
-    let problem =
-        LobeToPoint::new(point, Some(l)).map_err(|e| core_error("--receiver-normal", e))?;
+        .map_err(|e| core_error(&p.names.of("x0_incoming"), e))?;
+    let problem = LobeToPoint::new(point, Some(l))
+        .map_err(|e| core_error(&p.names.of("receiver_normal"), e))?;
     let technique = match a.technique {
         TechniqueName::Omnee => LobeTechnique::Omnee(WithLobe::new(
             Omnee::new(connection, &p1),
@@ -251,7 +331,7 @@ pub fn with_lobe<F: Real, T>(
         }
         other => {
             return Err(CliError::range(
-                "--technique",
+                &p.names.of("technique"),
                 other,
                 "omnee, mis or auto with --x0-phase",
             ));
@@ -260,10 +340,10 @@ pub fn with_lobe<F: Real, T>(
     f(&technique, &problem)
 }
 
-/// `estimate` with a lobe at `x0`: the sums, the accepted draws, the
+/// [`sums`] with a lobe at `x0`: the sums, the accepted draws, the
 /// reference if asked for (f64, docs/math.md §12.5) and the lobe
 /// technique's probability.
-fn estimate_lobe<F: Real>(
+fn sums_lobe<F: Real>(
     a: &EstimateArgs,
     p: &Problem,
     lobe: &Lobe,
@@ -308,6 +388,7 @@ fn estimate_lobe<F: Real>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use omnee_core::method::Method;
 
     fn args(
         technique: TechniqueName,
@@ -377,8 +458,7 @@ mod tests {
             let a = args(t, Some("hg:0.9"), incoming);
             let p = Problem::new(&a.problem).unwrap();
             let lobe = a.lobe.check().unwrap().unwrap();
-            let (m, accepted, reference, c) =
-                estimate_lobe::<f32>(&a, &p, &lobe, a.samples).unwrap();
+            let (m, accepted, reference, c) = sums_lobe::<f32>(&a, &p, &lobe, a.samples).unwrap();
             let (mean, se) = m.mean_stderr(a.samples);
             let want = reference.unwrap();
             // OMNEE's relative variance here is 8 per sample: 5 σ of
@@ -393,6 +473,98 @@ mod tests {
         let bad = args(TechniqueName::Distance, Some("hg:0.9"), incoming);
         let p = Problem::new(&bad.problem).unwrap();
         let lobe = bad.lobe.check().unwrap().unwrap();
-        assert!(estimate_lobe::<f32>(&bad, &p, &lobe, 10).is_err());
+        assert!(sums_lobe::<f32>(&bad, &p, &lobe, 10).is_err());
+    }
+
+    /// `args` without a lobe, with 10⁴ draws in f64 on one thread, a
+    /// padded spec and a receiver cosine; no reference (the integration
+    /// tests compare with it).
+    fn plain() -> EstimateArgs {
+        let mut a = args(TechniqueName::Auto, None, None);
+        a.problem.phase = " hg:0.9 ".into();
+        a.problem.receiver_normal = Some([0.0, 0.0, -2.0]);
+        a.problem.precision = Precision::F64;
+        EstimateArgs {
+            samples: 10_000,
+            reference: false,
+            json: false,
+            ..a
+        }
+    }
+
+    #[test]
+    fn the_estimate_is_independent_of_threads_and_reports_its_problem() {
+        let one = estimate(&plain(), Names::Fields).unwrap();
+        let mut a = plain();
+        a.threads = 2;
+        let two = estimate(&a, Names::Fields).unwrap();
+        assert_eq!(
+            (one.mean, one.stderr, one.accepted),
+            (two.mean, two.stderr, two.accepted)
+        );
+        assert_eq!(
+            (one.choice.method, one.choice.requested),
+            (Method::Omnee, TechniqueName::Auto)
+        );
+        assert!(one.choice.reason.is_some());
+        assert_eq!(one.phase.to_string(), "hg:0.9");
+        assert_eq!((one.mean_cosine, one.tau), (0.9, 0.55));
+        assert_eq!(one.receiver_normal, Some([0.0, 0.0, -1.0]));
+        assert_eq!((one.samples, one.precision), (10_000, Precision::F64));
+        assert_eq!((one.reference, one.lobe_probability), (None, None));
+        assert!(one.lobe.is_none());
+        assert!(one.mean > 0.0 && one.stderr < 0.01 * one.mean, "{one:?}");
+    }
+
+    /// A change to [`plain`] that makes it invalid.
+    type Spoil = fn(&mut EstimateArgs);
+
+    #[test]
+    fn bad_fields_are_named_as_the_caller_spells_them() {
+        let message = |change: Spoil, names| {
+            let mut a = plain();
+            change(&mut a);
+            estimate(&a, names).unwrap_err().to_string()
+        };
+        let cases: [(Spoil, &str, &str); 7] = [
+            (|a| a.samples = 0, "samples = 0", "--samples = 0"),
+            (
+                |a| a.problem.sigma_s = -1.0,
+                "sigma_s = -1",
+                "--sigma-s = -1",
+            ),
+            (
+                |a| a.problem.theta_max = 0.0,
+                "theta_max = 0",
+                "--theta-max = 0",
+            ),
+            (
+                |a| a.problem.x2 = a.problem.x0,
+                "x2 = 0,0,0 equals x0",
+                "--x2 = 0,0,0 equals --x0",
+            ),
+            (
+                |a| a.problem.x0[1] = f64::NAN,
+                "x0 = 0,NaN,0 is not a point",
+                "--x0 = 0,NaN,0",
+            ),
+            (
+                |a| a.problem.receiver_normal = Some([0.0; 3]),
+                "receiver_normal = 0,0,0 has zero length",
+                "--receiver-normal = 0,0,0",
+            ),
+            (
+                |a| a.lobe.x0_phase = Some("iso".into()),
+                "x0_phase needs x0_incoming",
+                "--x0-phase needs --x0-incoming",
+            ),
+        ];
+        for (change, field, option) in cases {
+            assert!(message(change, Names::Fields).starts_with(field), "{field}");
+            assert!(
+                message(change, Names::Options).starts_with(option),
+                "{option}"
+            );
+        }
     }
 }

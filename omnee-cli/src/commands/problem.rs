@@ -63,6 +63,38 @@ pub struct ProblemArgs {
     pub precision: Precision,
 }
 
+/// How messages name the problem's fields: as the command's options
+/// (`--sigma-s`), or as the fields of [`ProblemArgs`] and
+/// [`EstimateArgs`](super::estimate::EstimateArgs) (`sigma_s`) for a program
+/// that fills those structs itself (the Python bindings name their keyword
+/// arguments after them).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Names {
+    /// `--sigma-s`, `--receiver-normal`: the command line's.
+    #[default]
+    Options,
+    /// `sigma_s`, `receiver_normal`: the structs' own.
+    Fields,
+}
+
+impl Names {
+    /// `field` (a field of the options' structs, in snake case) as messages
+    /// name it.
+    pub fn of(self, field: &str) -> String {
+        match self {
+            Names::Options => format!("--{}", field.replace('_', "-")),
+            Names::Fields => field.to_string(),
+        }
+    }
+
+    /// Several fields named by [`Names::of`], joined by `/` (the fields a
+    /// core constructor's parameters came from).
+    pub fn list(self, fields: &[&str]) -> String {
+        let names: Vec<String> = fields.iter().map(|f| self.of(f)).collect();
+        names.join("/")
+    }
+}
+
 /// The checked problem in f64.
 pub struct Problem {
     /// The phase function.
@@ -75,31 +107,45 @@ pub struct Problem {
     pub tau: f64,
     /// The technique.
     pub choice: Choice,
+    /// How messages name the fields.
+    pub names: Names,
 }
 
 impl Problem {
-    /// Checks the options, naming the first bad one.
+    /// Checks the options, naming the first bad one as the command line
+    /// does ([`Names::Options`]).
     pub fn new(a: &ProblemArgs) -> Result<Self> {
-        let phase = PhaseSpec::parse(&a.phase).map_err(|e| e.context("--phase"))?;
-        Range::NON_NEGATIVE.check("--sigma-s", a.sigma_s)?;
+        Self::named(a, Names::Options)
+    }
+
+    /// Checks the fields, naming the first bad one by `names`.
+    pub fn named(a: &ProblemArgs, names: Names) -> Result<Self> {
+        let phase = PhaseSpec::parse(&a.phase).map_err(|e| e.context(&names.of("phase")))?;
+        let (x0, x2) = (point(names, "x0", a.x0)?, point(names, "x2", a.x2)?);
+        Range::NON_NEGATIVE.check(&names.of("sigma_s"), a.sigma_s)?;
         if !(a.sigma_t.is_finite() && a.sigma_t >= a.sigma_s) {
             return Err(CliError::range(
-                "--sigma-t",
+                &names.of("sigma_t"),
                 a.sigma_t,
                 format!("[sigma_s, inf) = [{}, inf)", a.sigma_s),
             ));
         }
-        Range::THETA_MAX.check("--theta-max", a.theta_max)?;
+        Range::THETA_MAX.check(&names.of("theta_max"), a.theta_max)?;
+        let field = names.of("receiver_normal");
         let normal = a
             .receiver_normal
-            .map(|n| unit_normal("--receiver-normal", n))
+            .map(|n| unit_normal(&field, point(names, "receiver_normal", n)?))
             .transpose()?;
-        let d = [0, 1, 2].map(|i| a.x2[i] - a.x0[i]);
+        let d = [0, 1, 2].map(|i| x2[i] - x0[i]);
         let s = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         if !(s > 0.0) {
             return Err(CliError::Input(format!(
-                "--x2 = {},{},{} equals --x0; allowed: any other point",
-                a.x2[0], a.x2[1], a.x2[2]
+                "{} = {},{},{} equals {}; allowed: any other point",
+                names.of("x2"),
+                x2[0],
+                x2[1],
+                x2[2],
+                names.of("x0")
             )));
         }
         let mut st = TableStorage::<f64>::default();
@@ -112,7 +158,24 @@ impl Problem {
             g,
             tau,
             choice,
+            names,
         })
+    }
+}
+
+/// `v` if its three components are finite (the command line's parser
+/// guarantees it; a program filling [`ProblemArgs`] may not).
+fn point(names: Names, field: &str, v: [f64; 3]) -> Result<[f64; 3]> {
+    if v.iter().all(|x| x.is_finite()) {
+        Ok(v)
+    } else {
+        Err(CliError::Input(format!(
+            "{} = {},{},{} is not a point; allowed: three finite numbers",
+            names.of(field),
+            v[0],
+            v[1],
+            v[2]
+        )))
     }
 }
 
@@ -148,19 +211,19 @@ pub fn with_sampler<F: Real, T>(
     p: &Problem,
     f: impl FnOnce(&Sampler<'_, F>) -> T,
 ) -> Result<T> {
+    let name = |fields: &[&str]| p.names.list(fields);
     let connection =
         Connection::<F>::new(vec3::<F>(a.x0), vec3::<F>(a.x2), F::from_f64(a.theta_max))
-            .map_err(|e| core_error("--x0/--x2/--theta-max", e))?;
+            .map_err(|e| core_error(&name(&["x0", "x2", "theta_max"]), e))?;
     let medium = Homogeneous::new(F::from_f64(a.sigma_s), F::from_f64(a.sigma_t - a.sigma_s))
-        .map_err(|e| core_error("--sigma-s/--sigma-t", e))?;
+        .map_err(|e| core_error(&name(&["sigma_s", "sigma_t"]), e))?;
     let problem = PointToPoint::new(connection, medium, p.normal.map(vec3::<F>))
-        .map_err(|e| core_error("--receiver-normal", e))?;
+        .map_err(|e| core_error(&name(&["receiver_normal"]), e))?;
     let mut storage = TableStorage::<F>::default();
     let phase = p.phase.instantiate::<F>(&mut storage)?;
     let directions = match p.normal {
-        Some(n) => {
-            Directions::cosine(vec3::<F>(n)).map_err(|e| core_error("--receiver-normal", e))?
-        }
+        Some(n) => Directions::cosine(vec3::<F>(n))
+            .map_err(|e| core_error(&name(&["receiver_normal"]), e))?,
         None => Directions::Sphere,
     };
     let setup = Setup::new(
@@ -169,7 +232,7 @@ pub fn with_sampler<F: Real, T>(
         Region::Everywhere,
         F::from_f64(a.sigma_t),
     )
-    .map_err(|e| core_error("--sigma-t", e))?;
+    .map_err(|e| core_error(&name(&["sigma_t"]), e))?;
     Ok(f(&Sampler {
         setup,
         connection,
