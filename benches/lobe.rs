@@ -38,7 +38,7 @@
 
 mod common;
 
-use common::{SplitMix, arg, docs_path, flag, fmt3, seed};
+use common::{arg, docs_path, flag, fmt3, seed};
 use cpu_time::ThreadTime;
 use glam::{DVec3, Vec3};
 use omnee::Vector;
@@ -47,7 +47,8 @@ use omnee::medium::Homogeneous;
 use omnee::mis::{Heuristic, OneSample};
 use omnee::phase::{Deflection, Phase, PhaseFunction, Spec};
 use omnee::reference::PointToPoint;
-use omnee::sampling::{Connection, Omnee, Sample, Technique};
+use omnee::rng::SplitMix64;
+use omnee::sampling::{Connection, Omnee, Sample, Technique, uniform};
 use std::fmt::Write as _;
 
 const SIGMA_S: f64 = 0.5;
@@ -149,12 +150,12 @@ fn run(
     t: &dyn Technique<f32>,
     p: &PointToPoint<f32>,
     n: u64,
-    rng: &mut SplitMix,
+    rng: &mut SplitMix64,
 ) -> (f64, f64, f64) {
     let start = ThreadTime::now();
     let (mut sum, mut sum2) = (0.0f64, 0.0f64);
     for _ in 0..n {
-        let u = [rng.f32(), rng.f32(), rng.f32()];
+        let u = [uniform(rng), uniform(rng), uniform(rng)];
         let e = t.sample(u).map_or(0.0, |s| p.estimate(&s) as f64);
         sum += e;
         sum2 += e * e;
@@ -207,7 +208,7 @@ fn measure(spec0: &str, spec1: &str, tilt: f64, n: u64) -> Row {
         .map(|t| {
             // Common random numbers: every technique gets the same stream,
             // so with c = 0 the combination repeats OMNEE's estimates exactly.
-            let mut rng = SplitMix::new(seed(&[
+            let mut rng = SplitMix64::new(seed(&[
                 (tilt * 1e3) as u64,
                 spec0.len() as u64,
                 spec1.len() as u64,
