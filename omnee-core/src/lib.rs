@@ -66,7 +66,7 @@
 //! }
 //! let estimate = sum / (n * n) as f32;
 //!
-//! // The same problem in f64, integrated by quadrature (MATH.md §5).
+//! // The same problem in f64, integrated by quadrature (docs/math.md §5).
 //! let reference = PointToPoint::new(
 //!     Connection::new(x0.as_dvec3(), x2.as_dvec3(), core::f64::consts::FRAC_PI_2)?,
 //!     Homogeneous::new(0.5, 0.05)?,
@@ -83,7 +83,7 @@
 //! Everything is generic over [`Real`] (`f32` or `f64`); `f32` is the
 //! renderer's API and `f64` serves references and accuracy tests, through the
 //! same code. Angles travel as [`phase::Deflection`] (θ with `1 ∓ cos θ`), so
-//! forward peaks like g = 0.9999 keep their digits in f32 (MATH.md §4).
+//! forward peaks like g = 0.9999 keep their digits in f32 (docs/math.md §4).
 //!
 //! ## Features
 //!
