@@ -403,14 +403,14 @@ fn all<F: Real>(c: &mut Criterion<CpuTime>, precision: &str) {
 /// One once-more connection of the slab renderer, per technique: the cost of
 /// `World::once_more` at 256 floor points of the default scene.
 fn slab(c: &mut Criterion<CpuTime>) {
+    use omnee::method::Method;
     use omnee_cli::rng::Rng;
     use omnee_cli::scene::Scene;
-    use omnee_cli::technique::Tech;
-    use omnee_cli::world::{OnceMore, Stats, World};
+    use omnee_cli::world::{OnceMore, Roulette, Stats, World};
     let scene = Scene::default_scene();
     let mut storage = omnee_cli::phase::TableStorage::<f32>::default();
     let phase = scene.medium.phase.instantiate::<f32>(&mut storage).unwrap();
-    let world = World::new(&scene, phase);
+    let world = World::new(&scene, phase).unwrap();
     let points: Vec<glam::Vec3> = (0..BATCH)
         .map(|i| {
             glam::Vec3::new(
@@ -422,20 +422,21 @@ fn slab(c: &mut Criterion<CpuTime>) {
         .collect();
     let mut group = c.benchmark_group("slab");
     group.throughput(Throughput::Elements(BATCH as u64));
-    for tech in [Tech::Omnee, Tech::Equiangular, Tech::Distance, Tech::Mis] {
+    for method in Method::ALL {
         let how = OnceMore {
-            tech,
+            method,
             theta_max: std::f32::consts::PI,
         };
         let mut pass = 0u64;
-        group.bench_function(tech.name(), |b| {
+        group.bench_function(method.name(), |b| {
             b.iter(|| {
                 pass += 1;
                 let mut stats = Stats::default();
                 let mut acc = 0.0f32;
                 for (i, &p) in points.iter().enumerate() {
                     let mut rng = Rng::stream(7, i as u64, pass);
-                    acc += world.once_more(p, glam::Vec3::Z, how, &mut rng, (0.0, 0.0), &mut stats);
+                    acc +=
+                        world.once_more(p, glam::Vec3::Z, how, &mut rng, Roulette::OFF, &mut stats);
                 }
                 acc
             })

@@ -1,7 +1,7 @@
 //! Run time against error for the point-to-point once-more integral
 //! (issue 4, items 2 and 3), against its f64 quadrature reference.
 //!
-//! The problem (MATH.md §5, `omnee::reference::PointToPoint`): a unit point
+//! The problem (docs/math.md §5, `omnee::reference::PointToPoint`): a unit point
 //! light at `x0 = 0`, a point receiver at `x2 = (0, 0, 1)` (s = 1), an infinite
 //! homogeneous medium with σt·s = τ and albedo 1 (relative errors do not
 //! depend on σs), the whole range of deflections θ < π. Every technique
@@ -9,7 +9,7 @@
 //! renderer's precision, accumulating in f64:
 //!
 //! - `omnee`: OMNEE over θ < π (the full range: finite variance because of
-//!   the attenuation, MATH.md §3);
+//!   the attenuation, docs/math.md §3);
 //! - `equiangular`: a uniform direction from `x2`, equiangular distance;
 //! - `distance`: a uniform direction from `x2`, free flight with σ = σt;
 //! - `mis`: the CLI's, `OmneeMis::recommended`: OMNEE's vertex over θ < π,
@@ -33,7 +33,7 @@
 //! read off the measured curve (log-log interpolation; `–` where the budget
 //! lies outside the measured times, never an extrapolation).
 //!
-//! It also re-measures the per-sample relative variances of MATH.md §6.
+//! It also re-measures the per-sample relative variances of docs/math.md §6.
 //!
 //! Run: `cargo bench --bench time_vs_error` (about 3 minutes on one core)
 //! with optional `-- --reps R --max-log2 M --budget-ms T`. Writes
@@ -174,22 +174,22 @@ fn measure(spec: &'static str, tau: f64, reps: u64, max_log2: u32) -> Row {
     }
 }
 
-/// MATH.md §6: per-sample relative variance Var[estimate]/I², 4·10⁵ samples.
+/// docs/math.md §6: per-sample relative variance Var[estimate]/I², 4·10⁵ samples.
 fn math_table(out: &mut String) {
-    let rows: [(f64, f64, bool, [&str; 2]); 8] = [
-        (0.25, 0.0, true, ["1.0", "7.0"]),
-        (0.25, 0.9, true, ["0.027", "1.4e4"]),
-        (0.25, 0.98, true, ["0.0050", "2.3e5"]),
-        (0.25, 0.997, true, ["0.00083", "176 (mean off 13×)"]),
-        (0.0, 0.0, false, ["5.3", "4.2"]),
-        (0.1, 0.9, false, ["0.097", "7.8e3"]),
-        (1.0, 0.0, false, ["0.31", "163"]),
-        (1.0, 0.98, false, ["0.0023", "9.8e3"]),
+    let rows: [(f64, f64, bool, &str); 8] = [
+        (0.25, 0.0, true, "1.03"),
+        (0.25, 0.9, true, "0.0265"),
+        (0.25, 0.98, true, "4.92e-3"),
+        (0.25, 0.997, true, "7.91e-4"),
+        (0.0, 0.0, false, "3.51"),
+        (0.1, 0.9, false, "0.121"),
+        (1.0, 0.0, false, "0.305"),
+        (1.0, 0.98, false, "4.50e-3"),
     ];
     let n = 400_000;
     writeln!(
         out,
-        "| σt·s | g | OMNEE range | OMNEE rel. var. (MATH §6) | OMNEE mean/I | equiangular rel. var. (MATH §6) | equiangular mean/I |\n|---|---|---|---|---|---|---|"
+        "| σt·s | g | OMNEE range | OMNEE rel. var. (docs/math.md §6) | OMNEE mean/I | equiangular rel. var. (θ < π) | equiangular mean/I |\n|---|---|---|---|---|---|---|"
     )
     .unwrap();
     for (k, &(tau, g, forward, math)) in rows.iter().enumerate() {
@@ -224,13 +224,12 @@ fn math_table(out: &mut String) {
         );
         writeln!(
             out,
-            "| {tau} | {g} | {} | {} ({}) | {} | {} ({}) | {} |",
+            "| {tau} | {g} | {} | {} ({}) | {} | {} | {} |",
             if forward { "θ < π/2" } else { "θ < π" },
             fmt3(v_o / (i_fwd * i_fwd)),
-            math[0],
+            math,
             fmt3(m_o / i_fwd),
             fmt3(v_e / (i_full * i_full)),
-            math[1],
             fmt3(m_e / i_full),
         )
         .unwrap();
@@ -270,7 +269,7 @@ fn main() {
     .unwrap();
     writeln!(
         md,
-        "### MATH.md §6 re-measured (4·10⁵ samples each, σs = 0.2, s = 1, HG; MATH's value in parentheses)\n"
+        "### docs/math.md §6 re-measured (4·10⁵ samples each, σs = 0.2, s = 1, HG; the value of docs/math.md §6 in parentheses)\n"
     )
     .unwrap();
     math_table(&mut md);

@@ -1,11 +1,10 @@
-//! Output files: OpenEXR (linear HDR, one layer per term), a tone-mapped PNG,
-//! and the write-to-a-temporary-then-rename that keeps an existing output
-//! whole if anything fails.
+//! Images: layers of linear RGB (one per transport term), OpenEXR in and
+//! out, and the tone-mapped PNG; both written through
+//! [`write_atomic`].
 
 use crate::error::{CliError, Result};
-use std::fs::File;
-use std::io::{BufWriter, Write};
-use std::path::{Path, PathBuf};
+use crate::output::write_atomic;
+use std::path::Path;
 
 /// An RGB float image with named layers; `""` is the main layer (the sum).
 #[derive(Clone, Debug, PartialEq)]
@@ -26,55 +25,42 @@ impl Layers {
             .find(|(n, _)| n == name)
             .map(|(_, d)| d.as_slice())
     }
-}
 
-/// Checks that `path`'s folder exists before any work is done.
-pub fn check_output(field: &str, path: &Path) -> Result<()> {
-    let dir = parent(path);
-    if !dir.is_dir() {
-        return Err(CliError::Input(format!(
-            "{field} = {}: the folder {} does not exist; allowed: a path in an existing folder",
-            path.display(),
-            dir.display()
-        )));
+    /// The layers' names as messages list them: `RGB (sum), direct, ...`.
+    pub fn names(&self) -> String {
+        self.layers
+            .iter()
+            .map(|(n, _)| {
+                if n.is_empty() {
+                    "RGB (sum)".to_string()
+                } else {
+                    n.clone()
+                }
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
     }
-    if path.is_dir() {
-        return Err(CliError::Input(format!(
-            "{field} = {} is a folder; allowed: a file path",
-            path.display()
-        )));
-    }
-    Ok(())
-}
 
-fn parent(path: &Path) -> PathBuf {
-    match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
+    /// Whether `other` has the same size and the same layers in the same
+    /// order (e.g. another crop of the same render).
+    pub fn same_shape(&self, other: &Layers) -> bool {
+        (self.width, self.height) == (other.width, other.height)
+            && self.layers.len() == other.layers.len()
+            && self
+                .layers
+                .iter()
+                .zip(&other.layers)
+                .all(|(a, b)| a.0 == b.0)
     }
-}
 
-/// Writes `path` through a temporary file in the same folder (`tempfile`),
-/// renamed over `path` only once `write` has succeeded and the data is
-/// flushed and synced: an existing `path` is either left as it was or
-/// replaced whole, and a failed write leaves no temporary file behind.
-pub fn write_atomic(
-    path: &Path,
-    write: impl FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
-) -> Result<()> {
-    let io = |e: std::io::Error| CliError::Io(format!("cannot write {}: {e}", path.display()));
-    let tmp = tempfile::Builder::new()
-        .prefix(".omnee-")
-        .suffix(".tmp")
-        .tempfile_in(parent(path))
-        .map_err(io)?;
-    let (file, tmp_path) = tmp.into_parts();
-    let mut w = BufWriter::new(file);
-    write(&mut w).map_err(io)?;
-    w.flush().map_err(io)?;
-    w.get_ref().sync_all().map_err(io)?;
-    drop(w);
-    tmp_path.persist(path).map_err(|e| io(e.error))
+    /// Adds `other`'s pixels, layer by layer (see [`Self::same_shape`]).
+    pub fn add(&mut self, other: &Layers) {
+        for ((_, dst), (_, src)) in self.layers.iter_mut().zip(&other.layers) {
+            for (d, s) in dst.iter_mut().zip(src) {
+                *d += s;
+            }
+        }
+    }
 }
 
 /// Writes the layers as a single-part OpenEXR file with 32-bit float
@@ -162,6 +148,7 @@ pub fn read_exr(path: &Path) -> Result<crate::image::Layers> {
         }
         layers.push((name, data));
     }
+    // `crate::image::Layers`: the prelude of `exr` has a `Layers` too.
     Ok(crate::image::Layers {
         width: w,
         height: h,
@@ -239,19 +226,5 @@ mod tests {
         };
         write_exr(&path, &img).unwrap();
         assert_eq!(read_exr(&path).unwrap(), img);
-    }
-
-    #[test]
-    fn a_failed_write_leaves_the_old_file_whole() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("keep.png");
-        std::fs::write(&path, b"old").unwrap();
-        let r = write_atomic(&path, |w| {
-            w.write_all(b"half")?;
-            Err(std::io::Error::other("disk full"))
-        });
-        assert!(r.is_err());
-        assert_eq!(std::fs::read(&path).unwrap(), b"old");
-        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
     }
 }

@@ -4,6 +4,7 @@
 //! threads run in.
 
 use omnee_core::Real;
+use omnee_core::rng::{SplitMix64, mix};
 use rand_core::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 
@@ -12,22 +13,14 @@ use rand_pcg::Pcg64Mcg;
 #[derive(Clone, Debug)]
 pub struct Rng(Pcg64Mcg);
 
-/// The SplitMix64 finaliser (Steele, Lea, Flood 2014): a bijection on u64
-/// with full avalanche, to hash the stream's coordinates into one seed.
-#[inline]
-fn mix(mut z: u64) -> u64 {
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
 impl Rng {
-    /// The stream for `(seed, index, pass)`: the three hashed in turn into
-    /// the 64-bit seed that `SeedableRng::seed_from_u64` expands to the
-    /// generator's 128-bit state; distinct triples give independent streams.
+    /// The stream for `(seed, index, pass)`: the three hashed in turn by
+    /// the SplitMix64 finaliser [`mix`] into the 64-bit seed that
+    /// `SeedableRng::seed_from_u64` expands to the generator's 128-bit
+    /// state; distinct triples give independent streams.
     pub fn stream(seed: u64, index: u64, pass: u64) -> Self {
         let a = mix(seed ^ 0x6a09_e667_f3bc_c908);
-        let b = mix(a ^ index.wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        let b = mix(a ^ index.wrapping_mul(SplitMix64::GAMMA));
         let c = mix(b ^ pass.wrapping_mul(0xd1b5_4a32_d192_ed03));
         Rng(Pcg64Mcg::seed_from_u64(c))
     }
@@ -36,12 +29,6 @@ impl Rng {
     #[inline]
     pub fn uniform<F: Real>(&mut self) -> F {
         omnee_core::sampling::uniform(&mut self.0)
-    }
-
-    /// Three uniform numbers.
-    #[inline]
-    pub fn uniform3<F: Real>(&mut self) -> [F; 3] {
-        [self.uniform(), self.uniform(), self.uniform()]
     }
 }
 

@@ -1,84 +1,71 @@
-//! The techniques for placing the once-more vertex `x1`, shared by `render`,
-//! `probe`, `estimate` and `samples`, and the `auto` choice between them.
+//! The once-more technique as the CLI offers it: the core's [`Method`]s by
+//! name and `auto`, which picks one for the medium and says why (from
+//! docs/math.md §3.4 and the variances of §6). The draw itself is the
+//! core's ([`omnee_core::method::Setup`]).
 
-use crate::error::{CliError, Result};
-use crate::rng::Rng;
-use omnee_core::Real;
-use omnee_core::medium::Region;
-use omnee_core::mis::OmneeMis;
-use omnee_core::phase::PhaseFunction;
-use omnee_core::sampling::{
-    Connection, Directions, Distance, Equiangular, Omnee, Sample, Technique,
-};
+use clap::ValueEnum;
+use omnee_core::method::Method;
 
-/// A technique for the once-more term.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Tech {
-    /// OMNEE: the deflection from the phase function, then the circumcircle
-    /// arc (restricted to the integrand's θmax).
+/// A technique for the once-more term as asked for (`--technique`, the
+/// scene's `render.technique`): one of the core's [`Method`]s (the same
+/// names), or `auto`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Technique {
+    /// the deflection from the phase function, then x1 on the circumcircle arc
     Omnee,
-    /// Equiangular distance along a direction from the receiver.
+    /// a direction from the receiver, then the distance equiangular towards the light
     Equiangular,
-    /// Exponential free-flight distance along a direction from the receiver.
+    /// a direction from the receiver, then an exponential free-flight distance
     Distance,
-    /// OMNEE over the integrand's whole range, and with probability 0.05 an
-    /// equiangular vertex behind the backward cone θ ≥ 3π/4
-    /// ([`OmneeMis::recommended`]): MIS that covers backward scattering where
-    /// OMNEE's weight grows.
+    /// OMNEE over the whole range, and for 5 % of the connections one more, equiangular, vertex kept behind theta = 3 pi/4 (multi-sample MIS, balance heuristic there)
     Mis,
+    /// OMNEE, or mis in a thin medium with a broad phase function; says what it picked and why
+    Auto,
 }
 
-impl Tech {
-    /// The name on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            Tech::Omnee => "omnee",
-            Tech::Equiangular => "equiangular",
-            Tech::Distance => "distance",
-            Tech::Mis => "mis",
+crate::names::display_by_name!(Technique);
+
+impl From<Method> for Technique {
+    fn from(method: Method) -> Self {
+        match method {
+            Method::Omnee => Technique::Omnee,
+            Method::Equiangular => Technique::Equiangular,
+            Method::Distance => Technique::Distance,
+            Method::Mis => Technique::Mis,
         }
     }
 }
 
-/// The resolved choice: the technique and, for `auto`, why.
+/// The resolved choice: the method and, for `auto`, why.
 #[derive(Clone, Debug)]
 pub struct Choice {
-    /// The technique used.
-    pub tech: Tech,
-    /// What was asked for (`auto` or the technique's name).
-    pub requested: String,
+    /// The method used.
+    pub method: Method,
+    /// What was asked for.
+    pub requested: Technique,
     /// For `auto`: the reason, in a sentence.
     pub reason: Option<String>,
 }
 
-/// Resolves a technique name; `auto` picks from the phase function's mean
+/// Resolves `requested`; `auto` picks from the phase function's mean
 /// cosine `g` and the optical thickness `tau = σt · distance` of a typical
 /// connection ([`auto`]).
-pub fn choose(field: &str, name: &str, g: f64, tau: f64) -> Result<Choice> {
-    let tech = match name {
-        "omnee" => Tech::Omnee,
-        "equiangular" => Tech::Equiangular,
-        "distance" => Tech::Distance,
-        "mis" => Tech::Mis,
-        "auto" => {
-            let (tech, reason) = auto(g, tau);
-            return Ok(Choice {
-                tech,
-                requested: "auto".into(),
-                reason: Some(reason),
-            });
-        }
-        _ => {
-            return Err(CliError::Input(format!(
-                "{field} = \"{name}\" is not a technique; allowed: omnee, equiangular, distance, mis, auto"
-            )));
+pub fn choose(requested: Technique, g: f64, tau: f64) -> Choice {
+    let (method, reason) = match requested {
+        Technique::Omnee => (Method::Omnee, None),
+        Technique::Equiangular => (Method::Equiangular, None),
+        Technique::Distance => (Method::Distance, None),
+        Technique::Mis => (Method::Mis, None),
+        Technique::Auto => {
+            let (method, reason) = auto(g, tau);
+            (method, Some(reason))
         }
     };
-    Ok(Choice {
-        tech,
-        requested: name.into(),
-        reason: None,
-    })
+    Choice {
+        method,
+        requested,
+        reason,
+    }
 }
 
 /// The optical thickness below which `auto` adds equiangular sampling
@@ -87,15 +74,15 @@ pub const AUTO_THIN: f64 = 0.2;
 
 /// `auto`: OMNEE over the whole range, unless the medium barely attenuates
 /// (`tau` < [`AUTO_THIN`]) and the phase function is not forward-peaked
-/// (`g` < 0.3); then [`Tech::Mis`]. OMNEE's weight θ/(s sin θ) is bounded by
+/// (`g` < 0.3); then [`Method::Mis`]. OMNEE's weight θ/(s sin θ) is bounded by
 /// attenuation behind the cone (its variance grows like ln(1/τ) as τ → 0) and
 /// is near 1/s for a forward peak; equiangular sampling alone is never
 /// chosen, its variance is infinite for a point-like `x0` (the weight grows
 /// like 1/D as the ray passes `x0`).
-pub fn auto(g: f64, tau: f64) -> (Tech, String) {
+pub fn auto(g: f64, tau: f64) -> (Method, String) {
     if g >= 0.3 {
         (
-            Tech::Omnee,
+            Method::Omnee,
             format!(
                 "the phase function is forward-peaked (mean cosine {g:.3} >= 0.3): OMNEE draws the deflection \
                  from it, and its weight theta/(s sin theta) stays near 1/s"
@@ -103,7 +90,7 @@ pub fn auto(g: f64, tau: f64) -> (Tech, String) {
         )
     } else if tau >= AUTO_THIN {
         (
-            Tech::Omnee,
+            Method::Omnee,
             format!(
                 "the medium attenuates along a typical connection (tau = {tau:.3} >= {AUTO_THIN}): attenuation \
                  bounds OMNEE's weight theta/(s sin theta) for backward deflections (mean cosine {g:.3})"
@@ -111,7 +98,7 @@ pub fn auto(g: f64, tau: f64) -> (Tech, String) {
         )
     } else {
         (
-            Tech::Mis,
+            Method::Mis,
             format!(
                 "the medium is optically thin (tau = {tau:.3} < {AUTO_THIN}) and the phase function not \
                  forward-peaked (mean cosine {g:.3}): OMNEE's weight grows like 1/(pi - theta) unchecked, so \
@@ -121,65 +108,39 @@ pub fn auto(g: f64, tau: f64) -> (Tech, String) {
     }
 }
 
-/// Everything a technique needs besides the connection.
-pub struct Setup<'p, F: Real, P> {
-    /// The phase function at `x1`.
-    pub phase: &'p P,
-    /// Ray directions from the receiver (equiangular, distance, MIS).
-    pub directions: Directions<F>,
-    /// Where the medium is.
-    pub region: Region<F>,
-    /// Extinction σt (the free-flight coefficient of distance sampling).
-    pub sigma_t: F,
-}
-
-/// One draw of a technique: the uniform numbers it took and its vertices,
-/// the technique's own and, for [`Tech::Mis`], the companion's (from
-/// `u[3..6]`). The once-more estimate is the sum of `f_c · weight` over them.
+/// How the once-more term is estimated.
 #[derive(Clone, Copy, Debug)]
-pub struct Draw<F: Real> {
-    /// The uniform numbers: `u[0..3]` for the first vertex, `u[3..6]` for the
-    /// companion's (drawn by `mis` only, else 0).
-    pub u: [F; 6],
-    /// The vertices; `None` where the numbers give no vertex.
-    pub vertices: [Option<Sample<F>>; 2],
+pub struct OnceMore {
+    /// The method for `x1`.
+    pub method: Method,
+    /// The integrand's restriction θ < θmax.
+    pub theta_max: f32,
 }
 
-impl<F: Real, P: PhaseFunction<F>> Setup<'_, F, P> {
-    /// One draw for `connection` (whose θmax is the integrand's) with `tech`:
-    /// three uniform numbers from `rng`, six for `mis`.
-    pub fn sample(&self, tech: Tech, connection: Connection<F>, rng: &mut Rng) -> Draw<F> {
-        let [a, b, c] = rng.uniform3::<F>();
-        let one = |s: Option<Sample<F>>| Draw {
-            u: [a, b, c, F::ZERO, F::ZERO, F::ZERO],
-            vertices: [s, None],
-        };
-        match tech {
-            Tech::Omnee => one(Omnee::new(connection, self.phase).sample([a, b, c])),
-            Tech::Equiangular => one(self.equiangular(connection).sample([a, b, c])),
-            Tech::Distance => one(Distance::new(
-                connection,
-                self.phase,
-                self.directions,
-                self.region,
-                self.sigma_t,
-            )
-            .ok()
-            .and_then(|t| t.sample([a, b, c]))),
-            Tech::Mis => {
-                let [d, e, f] = rng.uniform3::<F>();
-                let u = [a, b, c, d, e, f];
-                let equiangular = self.equiangular(connection);
-                let mis = OmneeMis::recommended(Omnee::new(connection, self.phase), &equiangular);
-                Draw {
-                    u,
-                    vertices: mis.sample(u),
-                }
-            }
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::names;
+
+    #[test]
+    fn the_methods_have_the_cores_names_and_auto_is_added() {
+        for m in Method::ALL {
+            assert_eq!(Technique::from(m).to_string(), m.name());
+            assert_eq!(choose(Technique::from(m), 0.0, 0.0).method, m);
         }
+        assert_eq!(
+            names::allowed::<Technique>(),
+            format!("{}, auto", Method::ALLOWED)
+        );
     }
 
-    fn equiangular(&self, connection: Connection<F>) -> Equiangular<F, &P> {
-        Equiangular::new(connection, self.phase, self.directions, self.region)
+    #[test]
+    fn auto_picks_omnee_unless_thin_and_broad() {
+        assert_eq!(choose(Technique::Auto, 0.9, 0.01).method, Method::Omnee);
+        assert_eq!(choose(Technique::Auto, 0.0, 1.0).method, Method::Omnee);
+        let thin = choose(Technique::Auto, 0.0, 0.01);
+        assert_eq!(thin.method, Method::Mis);
+        assert!(thin.reason.unwrap().contains("optically thin"));
+        assert!(choose(Technique::Mis, 0.0, 0.01).reason.is_none());
     }
 }

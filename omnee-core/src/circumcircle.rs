@@ -1,5 +1,5 @@
 //! Circumcircle geometry: the triangle `x0, x1, x2` in the coordinates
-//! (θ, β, φ) of MATH.md §2.
+//! (θ, β, φ) of docs/math.md §2.
 //!
 //! `α` is the angle at `x0` (between the axis `e` and `x1 − x0`), `β` the angle
 //! at `x2` (between `−e` and `x1 − x2`), and θ = α + β the deflection at `x1`.
@@ -96,7 +96,7 @@ impl<F: Real> Axis<F> {
     }
 
     /// The point `x1 = x0 + d1 (cos α e + sin α (cos φ b1 + sin φ b2))` with the
-    /// given angles (MATH.md §2). `None` where the map has no point: θ ≥ π
+    /// given angles (docs/math.md §2). `None` where the map has no point: θ ≥ π
     /// (`x1` at infinity) or non-finite input.
     #[inline]
     pub fn point(&self, angles: Angles<F>) -> Option<F::Vec3> {
@@ -197,7 +197,7 @@ impl<F: Real> Triangle<F> {
         Self::solve(s, Deflection::from_theta(angles.theta), angles.beta_ratio)
     }
 
-    /// Solves the triangle by the law of sines (MATH.md §2, §4),
+    /// Solves the triangle by the law of sines (docs/math.md §2, §4),
     /// `d1 = s sin β / sin θ`, `d2 = s sin α / sin θ`, with
     /// `sin θ = √((1 − cos θ)(1 + cos θ))` from the deflection's versines.
     ///

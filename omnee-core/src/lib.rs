@@ -17,6 +17,7 @@
 //! - [`phase`]: phase functions with cancellation-free angles;
 //! - [`sampling`]: OMNEE and its baselines, equiangular and distance sampling,
 //!   and a vectorised batch entry point for OMNEE with Henyey–Greenstein;
+//! - [`lobe`]: a lobe at `x0`: its technique, its MIS with OMNEE, a 3-D reference;
 //! - [`mis`]: multiple importance sampling over any set of techniques, and
 //!   [`mis::OmneeMis`], OMNEE with a companion behind a backward cone;
 //! - [`method`]: the techniques by name ([`method::Method`]) and the
@@ -65,7 +66,7 @@
 //! }
 //! let estimate = sum / (n * n) as f32;
 //!
-//! // The same problem in f64, integrated by quadrature (MATH.md §5).
+//! // The same problem in f64, integrated by quadrature (docs/math.md §5).
 //! let reference = PointToPoint::new(
 //!     Connection::new(x0.as_dvec3(), x2.as_dvec3(), core::f64::consts::FRAC_PI_2)?,
 //!     Homogeneous::new(0.5, 0.05)?,
@@ -82,7 +83,7 @@
 //! Everything is generic over [`Real`] (`f32` or `f64`); `f32` is the
 //! renderer's API and `f64` serves references and accuracy tests, through the
 //! same code. Angles travel as [`phase::Deflection`] (θ with `1 ∓ cos θ`), so
-//! forward peaks like g = 0.9999 keep their digits in f32 (MATH.md §4).
+//! forward peaks like g = 0.9999 keep their digits in f32 (docs/math.md §4).
 //!
 //! ## Features
 //!
@@ -99,6 +100,7 @@ extern crate std;
 
 pub mod circumcircle;
 pub mod error;
+pub mod lobe;
 pub mod medium;
 pub mod method;
 pub mod mis;

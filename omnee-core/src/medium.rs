@@ -21,7 +21,7 @@ impl<F: Real> Homogeneous<F> {
 
     /// A medium given by `σs ≥ 0` and `σt ≥ 0` (finite). Unlike [`Self::new`]
     /// it accepts `σt < σs`: analytic test problems use σt = 0 with σs > 0 to
-    /// switch attenuation off (MATH.md §5, §6).
+    /// switch attenuation off (docs/math.md §5).
     pub fn from_extinction(sigma_s: F, sigma_t: F) -> Result<Self, Error> {
         check_closed("sigma_s", sigma_s.to_f64(), 0.0, f64::MAX, "[0, inf)")?;
         check_closed("sigma_t", sigma_t.to_f64(), 0.0, f64::MAX, "[0, inf)")?;

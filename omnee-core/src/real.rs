@@ -605,7 +605,7 @@ pub fn cast_vec<A: Real, B: Real>(v: A::Vec3) -> B::Vec3 {
     B::Vec3::new(cast(x), cast(y), cast(z))
 }
 
-/// sinc x = sin x / x, with the series 1 − x²/6 + x⁴/120 near 0 (MATH.md §4),
+/// sinc x = sin x / x, with the series 1 − x²/6 + x⁴/120 near 0 (docs/math.md §4),
 /// so that it is exactly 1 at x = 0 and correctly rounded nearby.
 #[inline]
 pub fn sinc<F: Real>(x: F) -> F {

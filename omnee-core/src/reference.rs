@@ -1,4 +1,4 @@
-//! The point-to-point test problem of MATH.md §5 and its quadrature reference.
+//! The point-to-point test problem of docs/math.md §5 and its quadrature reference.
 //!
 //! A unit-intensity point light at `x0`, a point receiver at `x2` (optionally
 //! with a one-sided cosine about a normal), an infinite homogeneous medium and
@@ -184,7 +184,7 @@ mod tests {
 
     #[test]
     fn unattenuated_hg_matches_the_one_dimensional_form() {
-        // σt → 0: I = (2π σs / s) ∫ p θ dθ (MATH.md §5), by a separate 1-D quadrature.
+        // σt → 0: I = (2π σs / s) ∫ p θ dθ (docs/math.md §5), by a separate 1-D quadrature.
         let hg = HenyeyGreenstein::new(0.9).unwrap();
         let c = Connection::new(
             DVec3::ZERO,

@@ -107,7 +107,7 @@ fn estimators_converge_to_the_quadrature_reference() {
     // reference with probability 1 − 6e-7 under a normal approximation;
     // OMNEE's and MIS's estimates are bounded, so that approximation holds at
     // n = 2e5. Equiangular is checked only for isotropic scattering, where its
-    // relative variance is O(10) (MATH.md §6), not heavy-tailed.
+    // relative variance is O(10) (docs/math.md §6), not heavy-tailed.
     let cases: [Case; 4] = [
         ("hg:0.9", (0.2, 0.05, PI), &[Method::Omnee, Method::Mis]),
         (
@@ -152,7 +152,7 @@ fn estimators_converge_to_the_quadrature_reference() {
 
 #[test]
 fn omnee_is_far_less_noisy_than_equiangular_for_a_peaked_lobe() {
-    // MATH.md §6: relative variance 0.027 against 1.4e4 at g = 0.9.
+    // docs/math.md §6: relative variance 0.0265 against 2.4e3 at g = 0.9.
     let mut p = problem("hg:0.9", [-0.5, 0.0], [0.5, 0.0], (0.2, 0.05, PI / 2.0), 3);
     p.run(100_000).unwrap();
     let (o, e) = (

@@ -1,4 +1,4 @@
-//! χ² goodness-of-fit of every sampler against its own pdf (REFERENCE.md §3,
+//! χ² goodness-of-fit of every sampler against its own pdf (docs/math.md §5.6,
 //! Mitsuba 3's method).
 //!
 //! - Phase functions: 1-D in θ ∈ [0, π], 100 cells whose edges follow the
@@ -10,7 +10,7 @@
 //!   the triangle coordinates (θ, r = β/θ, φ) of an axis frame built by the
 //!   test itself, 16 × 6 × 4 cells, θ warped as above on `[0, θ_hi]`.
 //!   Expected counts integrate the *volume* pdf with the Jacobian
-//!   `dx1 = (d1² d2² / s) θ dθ dr dφ` (MATH.md §2, `dβ = θ dr`) by 4³-point
+//!   `dx1 = (d1² d2² / s) θ dθ dr dφ` (docs/math.md §2, `dβ = θ dr`) by 4³-point
 //!   Gauss–Legendre per cell, adaptively split in eight (three levels) to 2 %
 //!   of the cell's Poisson noise, following the edges where the pdf switches
 //!   on or off inside a cell (slab faces, cosine horizons). Ray techniques

@@ -12,6 +12,7 @@
 
 mod chi2;
 mod harness;
+mod lobe;
 mod properties;
 mod stability;
 mod tables;

@@ -435,7 +435,7 @@ fn versine_differences(spec: PhaseSpec) -> (f64, f64) {
 #[test]
 fn f32_samplers_keep_both_versines_to_relative_precision() {
     // A Deflection promises 1 − cos θ and 1 + cos θ each without
-    // cancellation (README, MATH.md §4), so the f32 sampler must match the
+    // cancellation (README, docs/math.md §4), so the f32 sampler must match the
     // f64 one in *relative* terms at both ends of u: near u → 1 a sampler
     // that forms 1 + cos θ, or any term of it, by subtracting numbers near
     // 1 (e.g. k = 1 + g − 2gu for g → 1) loses log10(1/(1 − g)) digits.

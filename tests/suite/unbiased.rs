@@ -1,5 +1,5 @@
 //! Unbiasedness: every technique's point-to-point estimate agrees with the
-//! quadrature reference `PointToPoint::integral` (MATH.md §5).
+//! quadrature reference `PointToPoint::integral` (docs/math.md §5).
 //!
 //! Tolerance. Each test compares the mean of N i.i.d. estimates with the
 //! reference in units of the estimated standard error. Under the CLT the
@@ -20,7 +20,8 @@
 //!   diverges logarithmically — a slowly varying truncated variance, which is
 //!   still in the normal domain of attraction, and the studentized mean is
 //!   asymptotically N(0, 1) (Giné, Götze, Mason 1997). With g = 0.99 the
-//!   relative variance measured 10⁴–10⁵ (MATH.md §6): no CLT at any
+//!   relative variance measured 10³–10⁴, with means at 5–85 % of I
+//!   (docs/math.md §6): no CLT at any
 //!   affordable N, so peaked phase functions reach equiangular only via MIS.
 //!   Distance sampling alone has weight ~ 1/d1² near x0 (tail index 3/2,
 //!   infinite variance): tested only inside MIS, where it is bounded; its

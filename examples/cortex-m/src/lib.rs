@@ -3,7 +3,7 @@
 //! - [`scene`]: the fixed point-to-point problem (also read by build.rs);
 //! - [`REFERENCE_BITS`]: its quadrature value, computed on the host at build
 //!   time;
-//! - [`SplitMix64`]: the uniform numbers;
+//! - [`uniform`]: the uniform numbers, from the core's [`SplitMix64`];
 //! - [`Mean`]: a compensated running mean and variance in f32;
 //! - [`report`]: lines of hex numbers over semihosting, without `core::fmt`;
 //! - [`stack`]: peak stack use by painting.
@@ -39,25 +39,16 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
     exit(false)
 }
 
-/// SplitMix64 (Steele, Lea, Flood 2014), as the C example uses.
-pub struct SplitMix64(pub u64);
+pub use omnee_core::rng::SplitMix64;
 
-impl SplitMix64 {
-    /// The next 64 bits.
-    #[inline]
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    /// A uniform f32 in [0, 1): the top 24 bits times 2⁻²⁴.
-    #[inline]
-    pub fn uniform(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 * (1.0 / 16_777_216.0)
-    }
+/// A uniform f32 in [0, 1) from the core's generator: the top 24 bits of a
+/// draw times 2⁻²⁴, in f32 arithmetic. The same numbers as
+/// [`omnee_core::sampling::uniform`], which scales in f64: on the
+/// Cortex-M4F (single-precision FPU only) that costs 320 B of flash and
+/// software double arithmetic per number.
+#[inline]
+pub fn uniform(rng: &mut SplitMix64) -> f32 {
+    (rng.next_u64() >> 40) as f32 * (1.0 / 16_777_216.0)
 }
 
 /// The running mean and variance, with Kahan-compensated sums of `x − shift`

@@ -245,7 +245,7 @@ impl<F: Real> PhaseFunction<F> for FournierForand<F> {
         Deflection::from_versines(F::from_f64(x), F::from_f64(y))
     }
 
-    /// `P(Θ ≤ θ) = 1 + (1 − s) φ(δ) + (K/8) cos θ sin²θ`, REFERENCE's
+    /// `P(Θ ≤ θ) = 1 + (1 − s) φ(δ) + (K/8) cos θ sin²θ`, the published
     /// `T(μ) = [1 − δ^{ν+1} − (1 − δ^ν)s]/[(1 − δ)δ^ν] + (K/8)μ(1 − μ²)`
     /// rewritten: the bracket form for δ < ½, and `1 − P(Θ > θ)` with
     /// `P(Θ > θ) = −(1 − s) φ(δ) − (K/8) μ(1 − μ)(1 + μ)` otherwise.
@@ -274,7 +274,7 @@ mod tests {
     use super::*;
     use core::f64::consts::{FRAC_PI_2, PI, TAU};
 
-    /// (B, n, μ_J, ⟨cos θ⟩) from REFERENCE §1.1 / §5.
+    /// (B, n, μ_J, ⟨cos θ⟩), the table of docs/math.md §7.4.
     const CHECKS: [(f64, f64, f64, f64); 4] = [
         (0.0183, 1.10, 3.5833, 0.930),
         (0.01, 1.08, 3.4819, 0.958),
@@ -356,7 +356,7 @@ mod tests {
     fn matches_the_textbook_formula_and_is_smooth_across_delta_one() {
         let p = FournierForand::<f64>::new(0.0183, 1.10).unwrap();
         let nu = p.nu();
-        // REFERENCE's eval, valid away from δ = 1.
+        // The published formula (docs/math.md §7.4), valid away from δ = 1.
         let textbook = |x: f64| {
             let delta = p.shape.delta90 * x;
             let s = 0.5 * x;

@@ -1,5 +1,5 @@
 //! The Henyey–Greenstein phase function, in the cancellation-free forms of
-//! MATH.md §4.
+//! docs/math.md §4.
 
 use super::{Deflection, PhaseFunction};
 use crate::error::{Error, check_open};

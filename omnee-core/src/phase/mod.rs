@@ -1,6 +1,6 @@
 //! Phase functions: the angular distribution of scattering at the vertex `x1`.
 //!
-//! Conventions (MATH.md §1): θ is the deflection between the *propagation*
+//! Conventions (docs/math.md §1): θ is the deflection between the *propagation*
 //! directions before and after scattering, `cos θ = ω1 · ω2`; θ = 0 is straight
 //! on. Every phase function is normalised over the sphere, `∫ p dω = 1`, i.e.
 //! `2π ∫₀^π p(θ) sin θ dθ = 1`, so Henyey–Greenstein with g > 0 peaks at θ = 0.
@@ -9,7 +9,7 @@
 //!
 //! Angles travel as a [`Deflection`], which carries `1 − cos θ` and `1 + cos θ`
 //! next to θ: for a forward peak like g = 0.997 the typical `1 − cos θ` is
-//! 4.5e-6 and `cos θ` in f32 would keep two digits of it (MATH.md §4).
+//! 4.5e-6 and `cos θ` in f32 would keep two digits of it (docs/math.md §4).
 //!
 //! Each phase function implements [`PhaseFunction`]: `eval`, an inverse-CDF
 //! `sample`, its `cdf` (so `cdf(sample(u)) = u`), and the mean cosine.
@@ -88,7 +88,7 @@ impl<F: Real> Deflection<F> {
         Self::from_versines(omc, F::TWO - omc)
     }
 
-    /// From cos θ (clamped to `[−1, 1]`); loses the digits MATH.md §4 warns
+    /// From cos θ (clamped to `[−1, 1]`); loses the digits docs/math.md §4 warns
     /// about near θ = 0 and π, so use it only where cos θ is all there is.
     #[inline]
     pub fn from_cos(cos_theta: F) -> Self {

@@ -1,5 +1,5 @@
 //! Techniques that place the scattering vertex `x1` of a once-more scattered
-//! connection `x0 → x1 → x2` (MATH.md §1).
+//! connection `x0 → x1 → x2` (docs/math.md §1).
 //!
 //! Every technique estimates the same integral of the *kernel*
 //!
@@ -179,7 +179,7 @@ impl<F: Real> Connection<F> {
     }
 
     /// The talk's default restriction, forward scattering only: θmax = π/2,
-    /// the ball with diameter `x0x2` (MATH.md §2); `new(x0, x2, π/2)`.
+    /// the ball with diameter `x0x2` (docs/math.md §2); `new(x0, x2, π/2)`.
     pub fn forward(x0: F::Vec3, x2: F::Vec3) -> Result<Self, Error> {
         Self::new(x0, x2, F::FRAC_PI_2)
     }

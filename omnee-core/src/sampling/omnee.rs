@@ -1,5 +1,5 @@
 //! Once-more scattered NEE: the deflection first, then the circumcircle arc
-//! (MATH.md §3).
+//! (docs/math.md §3).
 
 use super::{Connection, Sample, Technique, Vertex, saturate};
 use crate::circumcircle::Triangle;

@@ -147,7 +147,7 @@ fn pdf_is_zero_exactly_where_a_technique_cannot_sample() {
     assert_eq!(omnee.pdf(forward.axis.x2), 0.0);
 }
 
-/// One configuration of the point-to-point integral (MATH.md §5).
+/// One configuration of the point-to-point integral (docs/math.md §5).
 struct Config {
     g: f64,
     /// Optical length σt·s.
@@ -162,7 +162,7 @@ struct Config {
 /// distance sampling's weight grows like `1/d1²` near `x0` (tail
 /// `P(w > x) ∝ x^{−3/2}`), equiangular's like `1/D` as the ray passes `x0`
 /// (variance diverges logarithmically), and so does full-range OMNEE's like
-/// `1/(π − θ)` without attenuation (MATH.md §3). So each technique is tested
+/// `1/(π − θ)` without attenuation (docs/math.md §3). So each technique is tested
 /// where its estimator has finite variance, and the baselines also inside
 /// one-sample MIS with a technique that covers their singularity; their
 /// densities are checked exactly by the Jacobian and round-trip tests.

@@ -47,7 +47,7 @@ impl Frame {
     }
 
     /// `x1` and the volume Jacobian `|dx1 / d(θ, r, φ)| = d1² d2² θ / s` at
-    /// `θ ∈ (0, π)`, `r = β/θ ∈ (0, 1)` (MATH.md §2 with `dβ = θ dr`).
+    /// `θ ∈ (0, π)`, `r = β/θ ∈ (0, 1)` (docs/math.md §2 with `dβ = θ dr`).
     pub fn point(&self, theta: f64, r: f64, phi: f64) -> (DVec3, f64) {
         let beta = r * theta;
         let alpha = theta - beta;

@@ -21,7 +21,7 @@ use omnee_core::sampling::{
 };
 use omnee_cortex_m::report::Line;
 use omnee_cortex_m::scene::{G, SEED, SIGMA_A, SIGMA_S, THETA_MAX, X0, X2};
-use omnee_cortex_m::{Mean, REFERENCE_BITS, SplitMix64, stack};
+use omnee_cortex_m::{Mean, REFERENCE_BITS, SplitMix64, stack, uniform};
 #[cfg(target_arch = "riscv32")]
 use riscv_rt::entry;
 
@@ -58,7 +58,7 @@ fn run<F: Real>(rng: &mut SplitMix64, ok: &mut bool) -> Result<(), omnee_core::E
         "f32 "
     };
     let reference = F::from_f64(f64::from_bits(REFERENCE_BITS));
-    let mut u = || F::from_f32(rng.uniform());
+    let mut u = || F::from_f32(uniform(rng));
     for spec in SPECS {
         let phase: Phase<'_, F> = match Spec::<F>::parse(spec) {
             Ok(Spec::Analytic(p)) => p,
@@ -120,7 +120,7 @@ fn batch(rng: &mut SplitMix64) -> Result<f32, omnee_core::Error> {
     let omnee = Omnee::new(connection, HenyeyGreenstein::new(G)?);
     let (mut u0, mut u1, mut u2) = ([0.0f32; N], [0.0f32; N], [0.0f32; N]);
     for i in 0..N {
-        (u0[i], u1[i], u2[i]) = (rng.uniform(), rng.uniform(), rng.uniform());
+        (u0[i], u1[i], u2[i]) = (uniform(rng), uniform(rng), uniform(rng));
     }
     let (mut x, mut y, mut z, mut pdf, mut weight) =
         ([0.0; N], [0.0; N], [0.0; N], [0.0; N], [0.0; N]);
@@ -153,7 +153,7 @@ fn quadrature() -> Result<f64, omnee_core::Error> {
 #[entry]
 fn main() -> ! {
     let painted = stack::paint();
-    let mut rng = SplitMix64(SEED);
+    let mut rng = SplitMix64::new(SEED);
     let mut ok = true;
     let result = (|| {
         run::<f32>(&mut rng, &mut ok)?;

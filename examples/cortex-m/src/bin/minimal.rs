@@ -15,7 +15,7 @@ use omnee_core::reference::PointToPoint;
 use omnee_core::sampling::{Connection, Omnee, Technique};
 use omnee_cortex_m::report::Line;
 use omnee_cortex_m::scene::{G, SAMPLES, SEED, SIGMA_A, SIGMA_S, THETA_MAX, X0, X2};
-use omnee_cortex_m::{Mean, REFERENCE_BITS, SplitMix64, stack};
+use omnee_cortex_m::{Mean, REFERENCE_BITS, SplitMix64, stack, uniform};
 #[cfg(target_arch = "riscv32")]
 use riscv_rt::entry;
 
@@ -24,10 +24,10 @@ fn estimate() -> Result<Mean<f32>, omnee_core::Error> {
     let connection = Connection::new(Vec3::from_array(X0), Vec3::from_array(X2), THETA_MAX)?;
     let problem = PointToPoint::new(connection, Homogeneous::new(SIGMA_S, SIGMA_A)?, None)?;
     let omnee = Omnee::new(connection, HenyeyGreenstein::new(G)?);
-    let mut rng = SplitMix64(SEED);
+    let mut rng = SplitMix64::new(SEED);
     let mut mean = Mean::default();
     for _ in 0..SAMPLES {
-        let u = [rng.uniform(), rng.uniform(), rng.uniform()];
+        let u = [uniform(&mut rng), uniform(&mut rng), uniform(&mut rng)];
         // No sample (θ ≥ θmax) contributes 0.
         mean.add(omnee.sample(u).map_or(0.0, |s| problem.estimate(&s)));
     }

@@ -1,7 +1,7 @@
 //! The render's progress bar on stderr (indicatif): rows of the current
 //! pass for a sample budget, elapsed seconds for a time budget.
 
-use crate::render::Budget;
+use super::budget::Budget;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 /// A progress bar for one render.

@@ -1,0 +1,413 @@
+//! The underwater scene (issue 11): the equal-time comparison of the
+//! once-more techniques for `caustics-once-more`, like the talk's results
+//! slide, and the default render's time and image.
+//!
+//! `cargo bench --bench underwater_time_vs_error` (options after `--`):
+//!
+//! - `--resolution WxH` (default 240x180) for the comparison;
+//! - `--max-log2 K`: each technique renders 1, 2, 4, … 2^K passes (default 5);
+//! - `--reference-spp N`: the reference, the mean of two OMNEE renders of N
+//!   passes each with different seeds (default 512); its own relMSE is
+//!   estimated from their difference (`relMSE(A, B)/4`) and reported;
+//! - `--budget S`: the equal CPU time for the crops figure (default 4 s);
+//! - `--skips`: also what skipping saves (a flat surface, σs = 0, one term);
+//! - `--render`: also the default render of the built-in scene at its
+//!   resolution and passes on 2 threads: wall time, and the images
+//!   `omnee-cli/docs/underwater.png` and `docs/figures/underwater-<term>.png`.
+//!
+//! Each technique renders on one thread (a one-thread rayon pool); the time
+//! is the process's CPU time (`cpu-time`), since the machine is shared. The
+//! error of an image `I` against the reference `R` is the per-pixel relative
+//! MSE of the mean of R, G and B, `mean((I − R)²/(R² + ε))`, ε = (0.01 mean R)²,
+//! over the pixels where the reference is not black. Efficiency is the median
+//! over the renders of ≥ 4 passes of `1/(relMSE · seconds)`; the table gives
+//! each technique's relMSE interpolated at equal CPU time and its efficiency
+//! relative to OMNEE.
+//!
+//! Writes `docs/results/underwater.md` and `docs/figures/underwater-equal-time.png`
+//! (the three techniques' images at the same CPU time and the reference, side
+//! by side).
+
+mod common;
+
+use common::{arg, docs_path, flag, fmt3, median};
+use cpu_time::ProcessTime;
+use omnee_cli::image::{Layers, tone_map, write_png};
+use omnee_cli::phase::TableStorage;
+use omnee_cli::render::budget::Budget;
+use omnee_cli::underwater::render::{Options, Rendered, render};
+use omnee_cli::underwater::scene::UnderwaterScene;
+use omnee_cli::underwater::transport::{OnceMoreTech, Term, World};
+use std::fmt::Write as _;
+use std::time::Instant;
+
+/// The compared variants: a name, the technique, and mis's companion rate
+/// and cone edge.
+const TECHS: [(&str, OnceMoreTech, f32, f32); 4] = [
+    ("omnee", OnceMoreTech::Omnee, 0.0, 0.0),
+    ("equiangular", OnceMoreTech::Equiangular, 0.0, 0.0),
+    ("mis", OnceMoreTech::Mis, 0.05, 0.75 * std::f32::consts::PI),
+    ("mis (rate 1, all θ)", OnceMoreTech::Mis, 1.0, 0.0),
+];
+
+/// Renders `world` for `spp` passes with `seed` on a pool of `threads`,
+/// returning the image and the CPU seconds it took.
+fn timed(world: &World<'_>, spp: u32, seed: u64, threads: usize) -> (Rendered, f64) {
+    let (w, h) = (world.camera.width, world.camera.height);
+    let opt = Options {
+        budget: Budget::Spp(spp),
+        seed,
+        crop: [0, 0, w, h],
+        progress: false,
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("thread pool");
+    let before = ProcessTime::now();
+    let out = pool.install(|| render(world, &opt));
+    (out, before.elapsed().as_secs_f64())
+}
+
+/// The per-pixel mean of R, G, B of layer `name`.
+fn luminance(l: &Layers, name: &str) -> Vec<f64> {
+    l.get(name)
+        .expect("layer")
+        .chunks_exact(3)
+        .map(|p| (p[0] as f64 + p[1] as f64 + p[2] as f64) / 3.0)
+        .collect()
+}
+
+/// `mean((I − R)²/(R² + ε))` over the pixels where `R > 0`.
+fn rel_mse(img: &[f64], reference: &[f64]) -> f64 {
+    let lit: Vec<(f64, f64)> = img
+        .iter()
+        .zip(reference)
+        .filter(|(_, r)| **r > 0.0)
+        .map(|(a, b)| (*a, *b))
+        .collect();
+    let mean = lit.iter().map(|p| p.1).sum::<f64>() / lit.len() as f64;
+    let eps = (0.01 * mean).powi(2);
+    lit.iter()
+        .map(|(i, r)| (i - r).powi(2) / (r * r + eps))
+        .sum::<f64>()
+        / lit.len() as f64
+}
+
+/// `Σ(I − R)² / ΣR²`.
+fn n_mse(img: &[f64], reference: &[f64]) -> f64 {
+    let num: f64 = img
+        .iter()
+        .zip(reference)
+        .map(|(i, r)| (i - r).powi(2))
+        .sum();
+    num / reference.iter().map(|r| r * r).sum::<f64>()
+}
+
+/// One render of a technique: passes, CPU seconds, relMSE and nMSE.
+#[derive(Clone, Copy, Debug)]
+struct Point {
+    spp: u32,
+    cpu: f64,
+    rel: f64,
+    n: f64,
+}
+
+/// Which error of a [`Point`].
+type Error = fn(&Point) -> f64;
+
+/// An error at `budget` seconds, log-log interpolated between the renders,
+/// with slope −1 beyond them.
+fn at_time(curve: &[Point], budget: f64, error: Error) -> f64 {
+    let pts: Vec<(f64, f64)> = curve.iter().map(|p| (p.cpu.max(0.01), error(p))).collect();
+    let (first, last) = (pts[0], pts[pts.len() - 1]);
+    if budget <= first.0 {
+        return first.1 * first.0 / budget;
+    }
+    for w in pts.windows(2) {
+        let ((t0, r0), (t1, r1)) = (w[0], w[1]);
+        if budget >= t0 && budget <= t1 && t1 > t0 {
+            let f = (budget / t0).ln() / (t1 / t0).ln();
+            return (r0.ln() + f * (r1 / r0).ln()).exp();
+        }
+    }
+    last.1 * last.0 / budget
+}
+
+/// What skipping saves: the built-in scene at `w × h`, 8 passes on one
+/// thread, against the same with a flat surface (no marching, no wave-band
+/// tests) and with σs = 0 (no scattering terms), and with each term alone.
+fn skips(md: &mut String, w: u32, h: u32) {
+    let base = omnee_cli::underwater::scene::UNDERWATER_SCENE;
+    let flat = {
+        let cut = base.find("\n[[surface.waves]]").expect("waves");
+        let end = base.find("\n[water]").expect("water");
+        format!("{}{}", &base[..cut], &base[end..]).replace("kind = \"sine\"", "kind = \"flat\"")
+    };
+    let clear = base.replace("sigma_s = [0.25, 0.25, 0.25]", "sigma_s = 0.0");
+    let mut variants: Vec<(String, String)> = vec![
+        ("built-in scene, all terms".into(), base.to_string()),
+        ("flat surface".into(), flat),
+        ("water.sigma_s = 0 (scattering terms skipped)".into(), clear),
+    ];
+    for term in Term::ALL {
+        let only = base.replace(
+            "terms = [\"caustics\", \"caustics-once-more\", \"shafts\"]",
+            &format!("terms = [\"{}\"]", term.name()),
+        );
+        variants.push((format!("{} alone", term.name()), only));
+    }
+    let _ = writeln!(
+        md,
+        "## What skipping saves\n\n`cargo bench --bench underwater_time_vs_error -- --skips`: the built-in \
+         scene at {w}x{h}, 8 passes on one thread, CPU seconds:\n\n| variant | CPU s | relative |\n|---|---|---|"
+    );
+    let mut first = None;
+    for (label, text) in variants {
+        let scene = UnderwaterScene::parse(&text).expect("variant parses");
+        let mut storage = TableStorage::<f32>::default();
+        let phase = scene.phase.instantiate::<f32>(&mut storage).expect("phase");
+        let world = World::new(&scene, phase, w, h);
+        let (_, cpu) = timed(&world, 8, 3, 1);
+        let base_cpu = *first.get_or_insert(cpu);
+        println!("{label:<48} {cpu:>7.2} s CPU");
+        let _ = writeln!(md, "| {label} | {cpu:.2} | {} |", fmt3(cpu / base_cpu));
+    }
+    let _ = writeln!(md);
+}
+
+fn parse_resolution(s: &str) -> (u32, u32) {
+    let (w, h) = s.split_once('x').expect("--resolution WxH");
+    (w.parse().expect("width"), h.parse().expect("height"))
+}
+
+fn main() {
+    let (w, h) = parse_resolution(&arg("--resolution", "240x180".to_string()));
+    let max_log2: u32 = arg("--max-log2", 5);
+    let reference_spp: u32 = arg("--reference-spp", 512);
+    let budget: f64 = arg("--budget", 4.0);
+    let mut scene = UnderwaterScene::builtin();
+    let mut storage = TableStorage::<f32>::default();
+    let phase = scene.phase.instantiate::<f32>(&mut storage).expect("phase");
+    let mut md = String::new();
+    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| a != "--bench")
+        .collect();
+    let _ = writeln!(
+        md,
+        "# The underwater scene: time against error\n\nMeasured by `cargo bench --bench underwater_time_vs_error{}` \
+         on a 2-core machine shared with other jobs (load average at the start: {}).\n",
+        if args.is_empty() {
+            String::new()
+        } else {
+            format!(" -- {}", args.join(" "))
+        },
+        load.split_whitespace()
+            .take(3)
+            .collect::<Vec<_>>()
+            .join(" ")
+    );
+
+    if flag("--render") {
+        let (dw, dh) = (scene.camera.width, scene.camera.height);
+        let world = World::new(&scene, phase, dw, dh);
+        let spp = scene.render.spp;
+        let start = Instant::now();
+        let (out, cpu) = timed(&world, spp, scene.render.seed, 2);
+        let wall = start.elapsed().as_secs_f64();
+        let (srgb, ev) = tone_map(out.layers.get("").expect("sum"), scene.render.exposure);
+        let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("omnee-cli/docs/underwater.png");
+        write_png(&path, dw as usize, dh as usize, &srgb).expect("png");
+        for term in Term::ALL {
+            let (srgb, _) = tone_map(out.layers.get(term.name()).expect("layer"), Some(ev));
+            let p = docs_path(&format!("figures/underwater-{}.png", term.name()));
+            write_png(&p, dw as usize, dh as usize, &srgb).expect("png");
+        }
+        let st = out.stats;
+        println!(
+            "default render {dw}x{dh}, {spp} passes ({} paths): {wall:.1} s wall, {cpu:.1} s CPU on 2 threads",
+            st.paths
+        );
+        let _ = writeln!(
+            md,
+            "## The default render\n\n`underwater` at {dw}x{dh}, {spp} passes of {dw}·{dh} light paths \
+             ({} paths) on 2 threads: **{wall:.1} s wall**, {cpu:.1} s CPU. Paths outside the lit region {}, \
+             lost at the surface {}, floor hits {}; splats: caustics {}, caustics-once-more {}, shafts {}; \
+             wave-band visibility tests {}.\n",
+            st.paths,
+            st.outside_region,
+            st.lost_at_surface,
+            st.floor_hits,
+            st.splats[0],
+            st.splats[1],
+            st.splats[2],
+            st.surface_tests
+        );
+    }
+
+    if flag("--skips") {
+        skips(&mut md, w, h);
+    }
+
+    // The comparison: caustics-once-more only.
+    scene.render.terms = [false, true, false];
+    let phase = scene.phase.instantiate::<f32>(&mut storage).expect("phase");
+    let mut world = World::new(&scene, phase, w, h);
+    // The reference: two-sample MIS of OMNEE and camera-ray equiangular over
+    // the whole range, the lowest-variance combination everywhere.
+    world.once_more.tech = OnceMoreTech::Mis;
+    world.once_more.mis_rate = 1.0;
+    world.once_more.mis_theta_min = 0.0;
+    let (ref_a, ta) = timed(&world, reference_spp, 1001, 2);
+    let (ref_b, tb) = timed(&world, reference_spp, 2002, 2);
+    let name = Term::CausticsOnceMore.name();
+    let (la, lb) = (
+        luminance(&ref_a.layers, name),
+        luminance(&ref_b.layers, name),
+    );
+    let reference: Vec<f64> = la.iter().zip(&lb).map(|(a, b)| 0.5 * (a + b)).collect();
+    let (ref_rel, ref_n) = (rel_mse(&la, &lb) / 4.0, n_mse(&la, &lb) / 4.0);
+    println!(
+        "reference: 2 x {reference_spp} passes in {:.0} s CPU, own relMSE {}, nMSE {}",
+        ta + tb,
+        fmt3(ref_rel),
+        fmt3(ref_n)
+    );
+    let mut curves: Vec<Vec<Point>> = Vec::new();
+    let mut images: Vec<Option<Layers>> = Vec::new();
+    for (label, tech, rate, theta_min) in TECHS {
+        world.once_more.tech = tech;
+        world.once_more.mis_rate = rate;
+        world.once_more.mis_theta_min = theta_min;
+        let mut curve = Vec::new();
+        let mut at_budget: Option<Layers> = None;
+        for k in 0..=max_log2 {
+            let spp = 1u32 << k;
+            let (out, cpu) = timed(&world, spp, 7 + k as u64, 1);
+            let lum = luminance(&out.layers, name);
+            let p = Point {
+                spp,
+                cpu,
+                rel: rel_mse(&lum, &reference),
+                n: n_mse(&lum, &reference),
+            };
+            println!(
+                "{label:<20} {spp:>5} passes {cpu:>8.2} s CPU relMSE {} nMSE {}",
+                fmt3(p.rel),
+                fmt3(p.n)
+            );
+            curve.push(p);
+            if cpu <= budget * 1.5 {
+                at_budget = Some(out.layers);
+            }
+        }
+        curves.push(curve);
+        images.push(at_budget);
+    }
+    let efficiency = |c: &[Point], error: Error| {
+        let mut e: Vec<f64> = c
+            .iter()
+            .filter(|p| p.spp >= 4)
+            .map(|p| 1.0 / (error(p) * p.cpu.max(0.01)))
+            .collect();
+        if e.is_empty() {
+            return f64::NAN;
+        }
+        median(&mut e)
+    };
+    let rel: Error = |p| p.rel;
+    let n: Error = |p| p.n;
+    let (base_rel, base_n) = (efficiency(&curves[0], rel), efficiency(&curves[0], n));
+    let _ = writeln!(
+        md,
+        "## Equal time: the once-more techniques on `caustics-once-more`\n\n\
+         The built-in scene at {w}x{h}, `caustics-once-more` only (phase `{}`, σs = 0.25 /m, floor 4 m \
+         down, {} draws per floor point). Each technique renders 1, 2, …, {} passes on one thread; time is \
+         CPU time. Reference: two renders of {reference_spp} passes with two-sample MIS (OMNEE and \
+         camera-ray equiangular, both always, balance heuristic over the whole range); its own error from \
+         the difference of the two: relMSE {}, nMSE {}. Errors: relMSE = mean over pixels of \
+         (I − R)²/(R² + ε), ε = (0.01 mean R)², which the sparse dark water pixels dominate, and \
+         nMSE = Σ(I − R)²/ΣR², which the bright floor dominates; both at {budget} s CPU (log-log \
+         interpolated between the renders), and the efficiencies 1/(error · s), medians over the renders \
+         of ≥ 4 passes, relative to OMNEE's:\n",
+        scene.phase,
+        scene.render.once_more_samples,
+        1u32 << max_log2,
+        fmt3(ref_rel),
+        fmt3(ref_n)
+    );
+    let _ = writeln!(
+        md,
+        "| technique | relMSE at {budget} s | nMSE at {budget} s | efficiency (relMSE) | relative | \
+         efficiency (nMSE) | relative |\n|---|---|---|---|---|---|---|"
+    );
+    for ((label, ..), c) in TECHS.iter().zip(&curves) {
+        let (er, en) = (efficiency(c, rel), efficiency(c, n));
+        let _ = writeln!(
+            md,
+            "| {label} | {} | {} | {} | {} | {} | {} |",
+            fmt3(at_time(c, budget, rel)),
+            fmt3(at_time(c, budget, n)),
+            fmt3(er),
+            fmt3(er / base_rel),
+            fmt3(en),
+            fmt3(en / base_n)
+        );
+    }
+    let _ = writeln!(md, "\nEvery render (passes: CPU seconds, relMSE, nMSE):\n");
+    for ((label, ..), c) in TECHS.iter().zip(&curves) {
+        let _ = writeln!(
+            md,
+            "- {label}: {}",
+            c.iter()
+                .map(|p| format!("{}: {:.2} s, {}, {}", p.spp, p.cpu, fmt3(p.rel), fmt3(p.n)))
+                .collect::<Vec<_>>()
+                .join("; ")
+        );
+    }
+
+    // The crops figure: each technique's render closest to `budget` below
+    // 1.5 budget, and the reference, side by side, at the reference's exposure.
+    let (_, ev) = tone_map(ref_a.layers.get(name).expect("layer"), None);
+    let mut panels: Vec<Vec<f32>> = images
+        .iter()
+        .map(|i| {
+            i.as_ref()
+                .map(|l| l.get(name).expect("layer").to_vec())
+                .unwrap_or_else(|| vec![0.0; (w * h * 3) as usize])
+        })
+        .collect();
+    let (a, b) = (
+        ref_a.layers.get(name).expect("layer"),
+        ref_b.layers.get(name).expect("layer"),
+    );
+    panels.push(a.iter().zip(b).map(|(x, y)| 0.5 * (x + y)).collect());
+    let gap = 4usize;
+    let (pw, ph) = (w as usize, h as usize);
+    let total_w = panels.len() * pw + (panels.len() - 1) * gap;
+    let mut canvas = vec![255u8; total_w * ph * 3];
+    for (k, panel) in panels.iter().enumerate() {
+        let (srgb, _) = tone_map(panel, Some(ev));
+        for y in 0..ph {
+            for x in 0..pw {
+                for c in 0..3 {
+                    canvas[(y * total_w + k * (pw + gap) + x) * 3 + c] = srgb[(y * pw + x) * 3 + c];
+                }
+            }
+        }
+    }
+    let fig = docs_path("figures/underwater-equal-time.png");
+    write_png(&fig, total_w, ph, &canvas).expect("png");
+    let _ = writeln!(
+        md,
+        "\n`docs/figures/underwater-equal-time.png`: from left to right {} at about {budget} s CPU each \
+         (the largest power-of-two pass count within 1.5× of it), and the reference; one exposure for all.\n",
+        TECHS.iter().map(|t| t.0).collect::<Vec<_>>().join(", ")
+    );
+    let out = docs_path("results/underwater.md");
+    std::fs::write(&out, md).expect("write results");
+    println!("wrote {} and {}", out.display(), fig.display());
+}

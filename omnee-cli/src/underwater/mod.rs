@@ -1,0 +1,152 @@
+//! The underwater scene of the talk: the sun through a wavy water surface,
+//! caustics on the sand floor, blurred with depth by once-more scattered
+//! connections to a camera in the water (docs/math.md §13).
+//!
+//! All light reaching the floor under a wavy surface is caustic: the sun
+//! cannot be reached by next event estimation through a refracting surface,
+//! so light is traced from the sun ([`transport`]) and each floor point `x0`
+//! is connected to the eye directly (`caustics`), once more through a vertex
+//! `x1` in the water (`caustics-once-more`), and points on the refracted
+//! sun rays are connected to the eye (`shafts`).
+//!
+//! Modules, one per idea: [`surface`] (the waves and ray marching),
+//! [`optics`] (refraction and Fresnel), [`sun`], [`water`] (chromatic
+//! coefficients and distance sampling), [`floor`], [`camera`] (the pixel
+//! measurement and the importance derived from it), [`transport`] (the light
+//! paths and the three terms), [`render`] (the deterministic splatting loop)
+//! and [`scene`] (the scene file).
+
+pub mod camera;
+pub mod floor;
+pub mod optics;
+pub mod render;
+pub mod scene;
+pub mod sun;
+pub mod surface;
+pub mod transport;
+pub mod water;
+
+use crate::technique;
+use camera::Pinhole;
+use omnee_core::phase::{Phase, PhaseFunction};
+use scene::{TechniqueChoice, UnderwaterScene};
+use transport::{OnceMore, OnceMoreTech, World};
+
+/// The technique `auto` picks for the once-more term, with the reason: the
+/// CLI's rule ([`technique::auto`]) from the phase function's mean cosine
+/// and the optical thickness of the floor's depth in the clearest channel;
+/// its `mis` is this scene's mis.
+pub fn choose_technique(scene: &UnderwaterScene, g: f64) -> (OnceMoreTech, String) {
+    let depth = (scene.surface.z - scene.floor.z) as f64;
+    let tau = scene.water.sigma_t.min_element() as f64 * depth;
+    let (tech, reason) = technique::auto(g, tau);
+    let tech = match tech {
+        omnee_core::method::Method::Mis => OnceMoreTech::Mis,
+        _ => OnceMoreTech::Omnee,
+    };
+    (tech, reason)
+}
+
+/// What the scene does not need, as sentences for the render's report:
+/// the scattering terms without scattering, the surface marching for a
+/// flat surface. [`World::new`] skips them.
+pub fn skip_notes(scene: &UnderwaterScene) -> Vec<String> {
+    let mut notes = Vec::new();
+    let r = &scene.render.terms;
+    if !scene.water.scatters() && (r[1] || r[2]) {
+        notes.push(
+            "water.sigma_s = 0: caustics-once-more and shafts skipped (no scattering)".to_string(),
+        );
+    }
+    if scene.surface.is_flat() {
+        notes.push(
+            "flat surface: closed-form intersection, no marching and no wave-band visibility tests"
+                .to_string(),
+        );
+    }
+    notes
+}
+
+impl<'a> World<'a> {
+    /// The scene at `width × height` with its phase function instantiated by
+    /// the caller, the terms to evaluate, and the once-more technique
+    /// (`auto` resolved).
+    pub fn new(scene: &UnderwaterScene, phase: Phase<'a, f32>, width: u32, height: u32) -> Self {
+        let c = &scene.camera;
+        let r = &scene.render;
+        let tech = match r.technique {
+            TechniqueChoice::Fixed(t) => t,
+            TechniqueChoice::Auto => choose_technique(scene, phase.mean_cosine() as f64).0,
+        };
+        let mut terms = r.terms;
+        if !scene.water.scatters() {
+            terms[1] = false;
+            terms[2] = false;
+        }
+        let camera = Pinhole::new(c.position, c.look_at, c.up, c.fov, width, height);
+        let mut world = World {
+            sun: scene.sun,
+            surface: scene.surface.clone(),
+            ior: scene.ior,
+            water: scene.water,
+            phase,
+            floor: scene.floor,
+            camera,
+            region: transport::LightRegion {
+                lo: glam::Vec2::ZERO,
+                hi: glam::Vec2::ONE,
+                offset: glam::Vec2::ZERO,
+                z_top: 0.0,
+                beam: glam::Vec3::NEG_Z,
+                aim: transport::Aim {
+                    camera: 0.0,
+                    eye: 0.0,
+                    eye_radius: 1.0,
+                },
+                cells: transport::FloorCells::new(&camera),
+            },
+            max_distance: r.max_distance as f32,
+            terms,
+            once_more: OnceMore {
+                tech,
+                theta_max: r.theta_max as f32,
+                mis_rate: r.mis_rate as f32,
+                mis_theta_min: r.mis_theta_min as f32,
+            },
+            shafts: r.shafts,
+            samples: [r.once_more_samples, r.shaft_samples],
+        };
+        let aim = transport::Aim {
+            camera: r.camera_share as f32,
+            eye: r.eye_share as f32,
+            eye_radius: r.eye_radius as f32,
+        };
+        world.region = world.light_region(r.margin as f32, aim);
+        world
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clear_water_skips_the_scattering_terms_and_says_so() {
+        let text =
+            scene::UNDERWATER_SCENE.replacen("sigma_s = [0.25, 0.25, 0.25]", "sigma_s = 0", 1);
+        let s = UnderwaterScene::parse(&text).unwrap();
+        let notes = skip_notes(&s);
+        assert!(notes.iter().any(|n| n.contains("sigma_s = 0")), "{notes:?}");
+        let mut storage = crate::phase::TableStorage::<f32>::default();
+        let w = World::new(&s, s.phase.instantiate(&mut storage).unwrap(), 16, 12);
+        assert_eq!(w.terms, [true, false, false]);
+    }
+
+    #[test]
+    fn auto_picks_omnee_for_the_forward_peaked_water() {
+        let s = UnderwaterScene::builtin();
+        let (tech, reason) = choose_technique(&s, 0.9);
+        assert_eq!(tech, OnceMoreTech::Omnee);
+        assert!(reason.contains("forward-peaked"), "{reason}");
+    }
+}

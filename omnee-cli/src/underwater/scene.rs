@@ -1,0 +1,659 @@
+//! The underwater scene file: TOML with every parameter, validated field by
+//! field; every error names the field (`section.key`), its value and the
+//! allowed range. The built-in scene is `scenes/underwater.toml`, which
+//! documents every field.
+
+use super::floor::{Floor, FloorPattern};
+use super::sun::Sun;
+use super::surface::{Surface, Wave, WaveKind};
+use super::transport::{OnceMoreTech, ShaftSampling, Term};
+use super::water::Water;
+use crate::error::{CliError, Result};
+use crate::phase::PhaseSpec;
+use crate::range::Range;
+use glam::{Vec2, Vec3};
+use std::collections::BTreeSet;
+
+/// The built-in underwater scene, as shipped in `omnee-cli/scenes/underwater.toml`.
+pub const UNDERWATER_SCENE: &str = include_str!("../../scenes/underwater.toml");
+
+/// The camera as given.
+#[derive(Clone, Debug)]
+pub struct CameraSpec {
+    /// Eye position.
+    pub position: Vec3,
+    /// Target.
+    pub look_at: Vec3,
+    /// Up direction.
+    pub up: Vec3,
+    /// Vertical field of view (radians).
+    pub fov: f32,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+}
+
+/// The once-more technique as asked for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TechniqueChoice {
+    /// A technique by name.
+    Fixed(OnceMoreTech),
+    /// Chosen from the phase function and the water ([`super::choose_technique`]).
+    Auto,
+}
+
+/// Render settings stored in the scene (command-line options override them).
+#[derive(Clone, Debug)]
+pub struct RenderSettings {
+    /// Passes of `width · height` light paths.
+    pub spp: u32,
+    /// Random seed.
+    pub seed: u64,
+    /// The terms to evaluate, in layer order.
+    pub terms: [bool; 3],
+    /// The once-more technique.
+    pub technique: TechniqueChoice,
+    /// The once-more integrand's restriction θ < θmax (radians).
+    pub theta_max: f64,
+    /// The mis companion's rate.
+    pub mis_rate: f64,
+    /// The mis companion's cone edge θmin (radians).
+    pub mis_theta_min: f64,
+    /// How the shafts' vertex is placed.
+    pub shafts: ShaftSampling,
+    /// Once-more draws per floor point.
+    pub once_more_samples: u32,
+    /// Shaft vertices per refracted sun ray.
+    pub shaft_samples: u32,
+    /// Growth of the lit region around what the camera sees (m).
+    pub margin: f64,
+    /// Reach of the lit region and of camera-ray sampling from the eye (m).
+    pub max_distance: f64,
+    /// Share of light paths aimed through the image.
+    pub camera_share: f64,
+    /// Share of light paths aimed past the eye.
+    pub eye_share: f64,
+    /// The largest distance from the eye of those paths' beams (m).
+    pub eye_radius: f64,
+    /// PNG exposure in stops; `None` picks it from the image.
+    pub exposure: Option<f64>,
+}
+
+/// A whole underwater scene.
+#[derive(Clone, Debug)]
+pub struct UnderwaterScene {
+    /// The sun.
+    pub sun: Sun,
+    /// The water surface.
+    pub surface: Surface,
+    /// The water's refractive index.
+    pub ior: f32,
+    /// The water's coefficients.
+    pub water: Water,
+    /// The phase function.
+    pub phase: PhaseSpec,
+    /// The floor.
+    pub floor: Floor,
+    /// The camera.
+    pub camera: CameraSpec,
+    /// Render settings.
+    pub render: RenderSettings,
+}
+
+/// One table of the document with the keys read so far.
+struct Table<'a> {
+    name: String,
+    table: Option<&'a toml::Table>,
+    used: BTreeSet<&'static str>,
+}
+
+fn input(msg: String) -> CliError {
+    CliError::Input(msg)
+}
+
+impl<'a> Table<'a> {
+    fn section(root: &'a toml::Table, name: &str) -> Result<Self> {
+        let table = match root.get(name) {
+            None => None,
+            Some(toml::Value::Table(t)) => Some(t),
+            Some(v) => {
+                return Err(input(format!(
+                    "{name} = {v} is not a table; allowed: a [{name}] section"
+                )));
+            }
+        };
+        Ok(Self {
+            name: name.to_string(),
+            table,
+            used: BTreeSet::new(),
+        })
+    }
+
+    fn field(&self, key: &str) -> String {
+        format!("{}.{key}", self.name)
+    }
+
+    fn get(&mut self, key: &'static str) -> Option<&'a toml::Value> {
+        self.used.insert(key);
+        self.table.and_then(|t| t.get(key))
+    }
+
+    fn number(&mut self, key: &'static str, default: Option<f64>, range: Range) -> Result<f64> {
+        let field = self.field(key);
+        let x = match self.get(key) {
+            None => {
+                default.ok_or_else(|| input(format!("{field} is missing; allowed: {range}")))?
+            }
+            Some(v) => as_number(v)
+                .ok_or_else(|| input(format!("{field} = {v} is not a number; allowed: {range}")))?,
+        };
+        range.check(&field, x)
+    }
+
+    fn integer(&mut self, key: &'static str, default: i64, lo: i64, hi: i64) -> Result<i64> {
+        let field = self.field(key);
+        match self.get(key) {
+            None => Ok(default),
+            Some(toml::Value::Integer(i)) if (lo..=hi).contains(i) => Ok(*i),
+            Some(v) => Err(input(format!(
+                "{field} = {v} is out of range; allowed: an integer in [{lo}, {hi}]"
+            ))),
+        }
+    }
+
+    /// Three numbers, each in `range`.
+    fn vector(
+        &mut self,
+        key: &'static str,
+        default: Option<[f64; 3]>,
+        range: Range,
+    ) -> Result<Vec3> {
+        let field = self.field(key);
+        let allowed = format!("an array of 3 numbers, each {range}");
+        match self.get(key) {
+            None => default
+                .map(|[x, y, z]| Vec3::new(x as f32, y as f32, z as f32))
+                .ok_or_else(|| input(format!("{field} is missing; allowed: {allowed}"))),
+            Some(v) => array3(v, range)
+                .ok_or_else(|| input(format!("{field} = {v} is out of range; allowed: {allowed}"))),
+        }
+    }
+
+    /// An RGB value: three numbers, or one for all channels, each in `range`.
+    fn rgb(&mut self, key: &'static str, default: Option<[f64; 3]>, range: Range) -> Result<Vec3> {
+        let field = self.field(key);
+        let allowed = format!("a number or an array of 3 numbers (R, G, B), each {range}");
+        match self.get(key) {
+            None => default
+                .map(|[x, y, z]| Vec3::new(x as f32, y as f32, z as f32))
+                .ok_or_else(|| input(format!("{field} is missing; allowed: {allowed}"))),
+            Some(v) => match as_number(v) {
+                Some(x) if range.contains(x) => Ok(Vec3::splat(x as f32)),
+                Some(_) => Err(input(format!(
+                    "{field} = {v} is out of range; allowed: {allowed}"
+                ))),
+                None => array3(v, range).ok_or_else(|| {
+                    input(format!("{field} = {v} is out of range; allowed: {allowed}"))
+                }),
+            },
+        }
+    }
+
+    fn string(&mut self, key: &'static str, default: &str, allowed: &str) -> Result<String> {
+        let field = self.field(key);
+        match self.get(key) {
+            None => Ok(default.to_string()),
+            Some(toml::Value::String(s)) => Ok(s.clone()),
+            Some(v) => Err(input(format!(
+                "{field} = {v} is not a string; allowed: {allowed}"
+            ))),
+        }
+    }
+
+    /// One of `names` (the allowed values, in order), as its index.
+    fn choice(&mut self, key: &'static str, default: &str, names: &[&str]) -> Result<usize> {
+        let allowed = names.join(", ");
+        let s = self.string(key, default, &allowed)?;
+        names.iter().position(|n| *n == s).ok_or_else(|| {
+            input(format!(
+                "{} = \"{s}\" is not one of the names; allowed: {allowed}",
+                self.field(key)
+            ))
+        })
+    }
+
+    /// Fails on the first key that was never read.
+    fn finish(self) -> Result<()> {
+        if let Some(t) = self.table {
+            for (k, v) in t {
+                if !self.used.contains(k.as_str()) {
+                    return Err(input(format!(
+                        "{}.{k} = {v} is not a known field; allowed: {}",
+                        self.name,
+                        self.used.iter().copied().collect::<Vec<_>>().join(", ")
+                    )));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+fn as_number(v: &toml::Value) -> Option<f64> {
+    match v {
+        toml::Value::Float(x) => Some(*x),
+        toml::Value::Integer(i) => Some(*i as f64),
+        _ => None,
+    }
+}
+
+fn array3(v: &toml::Value, range: Range) -> Option<Vec3> {
+    let toml::Value::Array(items) = v else {
+        return None;
+    };
+    if items.len() != 3 {
+        return None;
+    }
+    let mut out = [0.0f32; 3];
+    for (slot, item) in out.iter_mut().zip(items) {
+        let x = as_number(item)?;
+        if !range.contains(x) {
+            return None;
+        }
+        *slot = x as f32;
+    }
+    Some(Vec3::from_array(out))
+}
+
+const UNIT: Range = Range::closed(0.0, 1.0);
+const SECTIONS: [&str; 6] = ["sun", "surface", "water", "floor", "camera", "render"];
+
+impl UnderwaterScene {
+    /// The built-in scene.
+    pub fn builtin() -> Self {
+        Self::parse(UNDERWATER_SCENE).expect("the built-in underwater scene is valid")
+    }
+
+    /// Parses and validates a scene from TOML text.
+    pub fn parse(text: &str) -> Result<Self> {
+        let root: toml::Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| input(format!("not valid TOML: {e}")))?;
+        if let Some(key) = root.keys().find(|k| !SECTIONS.contains(&k.as_str())) {
+            return Err(input(format!(
+                "[{key}] is not a known section; allowed: {}",
+                SECTIONS.join(", ")
+            )));
+        }
+        let sun = parse_sun(&root)?;
+        let (surface, ior) = parse_surface(&root)?;
+        let (water, phase) = parse_water(&root)?;
+        let floor = parse_floor(&root, &surface)?;
+        let camera = parse_camera(&root, &surface, &floor)?;
+        let render = parse_render(&root)?;
+        Ok(Self {
+            sun,
+            surface,
+            ior,
+            water,
+            phase,
+            floor,
+            camera,
+            render,
+        })
+    }
+
+    /// Reads and parses a scene file; errors are prefixed with the path.
+    pub fn load(path: &std::path::Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| input(format!("--scene = {}: cannot read: {e}", path.display())))?;
+        Self::parse(&text).map_err(|e| e.context(&path.display().to_string()))
+    }
+}
+
+fn parse_sun(root: &toml::Table) -> Result<Sun> {
+    let mut s = Table::section(root, "sun")?;
+    let direction = s.vector("direction", Some([0.0, 0.0, 1.0]), Range::FINITE)?;
+    if !(direction.z > 0.0) {
+        return Err(input(format!(
+            "sun.direction = {:?} is out of range; allowed: a vector with z > 0 (the sun above the horizon)",
+            direction.to_array()
+        )));
+    }
+    let irradiance = s.number("irradiance", Some(1000.0), Range::NON_NEGATIVE)?;
+    let radius = s.number("angular_radius_deg", Some(0.27), Range::closed(0.0, 10.0))?;
+    s.finish()?;
+    Ok(Sun::new(
+        direction,
+        irradiance as f32,
+        (radius as f32).to_radians(),
+    ))
+}
+
+/// SplitMix64 step: the phases a wave leaves out, from `surface.seed`.
+fn splitmix(state: &mut u64) -> u64 {
+    *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    let mut z = *state;
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+fn parse_surface(root: &toml::Table) -> Result<(Surface, f32)> {
+    let mut s = Table::section(root, "surface")?;
+    let z = s.number("z", Some(0.0), Range::FINITE)? as f32;
+    let ior = s.number("ior", Some(1.33), Range::closed(1.0, 3.0))? as f32;
+    let kind = s.choice("kind", "flat", &["flat", "sine", "gerstner"])?;
+    let mut state = s.integer("seed", 1, 0, i64::MAX)? as u64;
+    let waves_value = s.get("waves");
+    s.finish()?;
+    let items: &[toml::Value] = match waves_value {
+        None => &[],
+        Some(toml::Value::Array(items)) => items,
+        Some(v) => {
+            return Err(input(format!(
+                "surface.waves = {v} is not a list of tables; allowed: [[surface.waves]] sections"
+            )));
+        }
+    };
+    if kind == 0 {
+        if !items.is_empty() {
+            return Err(input(
+                "surface.waves: kind = \"flat\" has no waves; allowed: kind = \"sine\" or \"gerstner\" with waves, or no [[surface.waves]]".into(),
+            ));
+        }
+        return Ok((Surface::flat(z), ior));
+    }
+    let mut waves = Vec::new();
+    for (i, item) in items.iter().enumerate() {
+        let toml::Value::Table(t) = item else {
+            return Err(input(format!(
+                "surface.waves[{i}] = {item} is not a table; allowed: a [[surface.waves]] section"
+            )));
+        };
+        let mut root_i = toml::Table::new();
+        root_i.insert(format!("surface.waves[{i}]"), toml::Value::Table(t.clone()));
+        let mut w = Table::section(&root_i, &format!("surface.waves[{i}]"))?;
+        let amplitude = w.number("amplitude", None, Range::NON_NEGATIVE)?;
+        let wavelength = w.number("wavelength", None, Range::POSITIVE)?;
+        let direction = w
+            .number("direction_deg", Some(0.0), Range::FINITE)?
+            .to_radians();
+        let random = (splitmix(&mut state) >> 11) as f64 / (1u64 << 53) as f64 * 360.0;
+        let phase = w
+            .number("phase_deg", Some(random), Range::FINITE)?
+            .to_radians();
+        w.finish()?;
+        waves.push(Wave {
+            amplitude: amplitude as f32,
+            k: (std::f64::consts::TAU / wavelength) as f32,
+            direction: Vec2::new(direction.cos() as f32, direction.sin() as f32),
+            phase: phase as f32,
+        });
+    }
+    let kind = if kind == 1 {
+        WaveKind::Sine
+    } else {
+        WaveKind::Gerstner
+    };
+    let surface = Surface::new(z, kind, waves).map_err(|e| {
+        input(format!(
+            "surface.waves: the amplitudes fold the Gerstner surface (sum of amplitude * 2 pi / wavelength = {}); allowed: a sum below 1",
+            e.steepness
+        ))
+    })?;
+    Ok((surface, ior))
+}
+
+fn parse_water(root: &toml::Table) -> Result<(Water, PhaseSpec)> {
+    let mut w = Table::section(root, "water")?;
+    let sigma_s = w.rgb("sigma_s", None, Range::NON_NEGATIVE)?;
+    let sigma_a = w.rgb("sigma_a", Some([0.0; 3]), Range::NON_NEGATIVE)?;
+    let phase_text = w.string("phase", "iso", "a phase spec such as iso or ff:0.0183,1.1")?;
+    let phase = PhaseSpec::parse(&phase_text).map_err(|e| e.context("water.phase"))?;
+    w.finish()?;
+    Ok((Water::new(sigma_s, sigma_a), phase))
+}
+
+fn parse_floor(root: &toml::Table, surface: &Surface) -> Result<Floor> {
+    let mut f = Table::section(root, "floor")?;
+    let trough = surface.trough() as f64;
+    let z = f.number("z", Some(-4.0), Range::open(f64::NEG_INFINITY, trough))? as f32;
+    let pattern = match f.choice("pattern", "sand", &["sand", "checker"])? {
+        0 => FloorPattern::Sand,
+        _ => FloorPattern::Checker,
+    };
+    let floor = Floor {
+        z,
+        pattern,
+        size: f.number("size", Some(0.5), Range::POSITIVE)? as f32,
+        albedo_a: f.rgb("albedo_a", Some([0.75, 0.68, 0.5]), UNIT)?,
+        albedo_b: f.rgb("albedo_b", Some([0.55, 0.48, 0.34]), UNIT)?,
+    };
+    f.finish()?;
+    Ok(floor)
+}
+
+fn parse_camera(root: &toml::Table, surface: &Surface, floor: &Floor) -> Result<CameraSpec> {
+    let mut c = Table::section(root, "camera")?;
+    let position = c.vector("position", None, Range::FINITE)?;
+    let (lo, hi) = (floor.z as f64, surface.trough() as f64);
+    if !(position.z as f64 > lo && (position.z as f64) < hi) {
+        return Err(CliError::range(
+            "camera.position[2]",
+            position.z,
+            format!(
+                "(floor.z, surface.z - sum of wave amplitudes) = ({lo}, {hi}): in the water, below every trough"
+            ),
+        ));
+    }
+    let look_at = c.vector("look_at", Some([0.0, 0.0, floor.z as f64]), Range::FINITE)?;
+    let up = c.vector("up", Some([0.0, 0.0, 1.0]), Range::FINITE)?;
+    let fov = c.number("fov", Some(60.0), Range::open(0.0, 180.0))?;
+    let width = c.integer("width", 480, 1, 16384)? as u32;
+    let height = c.integer("height", 360, 1, 16384)? as u32;
+    c.finish()?;
+    let view = look_at - position;
+    if !(view.length() > 0.0) {
+        return Err(input(format!(
+            "camera.look_at = {:?} equals camera.position; allowed: any other point",
+            look_at.to_array()
+        )));
+    }
+    if !(view.cross(up).length() > 1e-6 * view.length() * up.length()) {
+        return Err(input(format!(
+            "camera.up = {:?} is parallel to the view direction; allowed: any direction not parallel to look_at - position",
+            up.to_array()
+        )));
+    }
+    Ok(CameraSpec {
+        position,
+        look_at,
+        up,
+        fov: (fov as f32).to_radians(),
+        width,
+        height,
+    })
+}
+
+fn parse_render(root: &toml::Table) -> Result<RenderSettings> {
+    let mut r = Table::section(root, "render")?;
+    let term_names: Vec<&str> = Term::ALL.iter().map(|t| t.name()).collect();
+    let terms = match r.get("terms") {
+        None => [true; 3],
+        Some(v) => parse_terms("render.terms", v, &term_names)?,
+    };
+    let technique = match r.choice(
+        "technique",
+        "auto",
+        &["omnee", "equiangular", "mis", "auto"],
+    )? {
+        0 => TechniqueChoice::Fixed(OnceMoreTech::Omnee),
+        1 => TechniqueChoice::Fixed(OnceMoreTech::Equiangular),
+        2 => TechniqueChoice::Fixed(OnceMoreTech::Mis),
+        _ => TechniqueChoice::Auto,
+    };
+    let shafts = ShaftSampling::from_name(
+        ShaftSampling::NAMES[r.choice("shafts", "mis", &ShaftSampling::NAMES)?],
+    )
+    .expect("a name from the list");
+    let settings = RenderSettings {
+        spp: r.integer("spp", 16, 1, 1 << 24)? as u32,
+        seed: r.integer("seed", 1, 0, i64::MAX)? as u64,
+        terms,
+        technique,
+        theta_max: r.number(
+            "theta_max",
+            Some(std::f64::consts::PI),
+            Range::open_closed(0.0, std::f64::consts::PI),
+        )?,
+        mis_rate: r.number("mis_rate", Some(0.05), Range::closed(0.0, 1.0))?,
+        mis_theta_min: r.number(
+            "mis_theta_min",
+            Some(0.75 * std::f64::consts::PI),
+            Range::closed(0.0, std::f64::consts::PI),
+        )?,
+        shafts,
+        once_more_samples: r.integer("once_more_samples", 4, 1, 1024)? as u32,
+        shaft_samples: r.integer("shaft_samples", 4, 1, 1024)? as u32,
+        margin: r.number("margin", Some(1.0), Range::NON_NEGATIVE)?,
+        max_distance: r.number("max_distance", Some(30.0), Range::POSITIVE)?,
+        camera_share: r.number("camera_share", Some(0.65), Range::closed(0.0, 1.0))?,
+        eye_share: r.number("eye_share", Some(0.1), Range::closed(0.0, 1.0))?,
+        eye_radius: r.number("eye_radius", Some(2.0), Range::POSITIVE)?,
+        exposure: match r.get("exposure") {
+            None => None,
+            Some(toml::Value::String(s)) if s == "auto" => None,
+            Some(_) => Some(r.number("exposure", None, Range::open(-64.0, 64.0))?),
+        },
+    };
+    r.finish()?;
+    let rest = 1.0 - settings.camera_share - settings.eye_share;
+    if !(rest > 0.0) {
+        return Err(CliError::range(
+            "render.eye_share",
+            settings.eye_share,
+            format!(
+                "[0, 1 - render.camera_share) = [0, {}): some paths must start uniformly on the lit region",
+                1.0 - settings.camera_share
+            ),
+        ));
+    }
+    Ok(settings)
+}
+
+/// A list of term names from `v`, as flags in layer order.
+pub fn parse_terms(field: &str, v: &toml::Value, names: &[&str]) -> Result<[bool; 3]> {
+    let allowed = format!("a non-empty list of {}", names.join(", "));
+    let bad = || input(format!("{field} = {v} is out of range; allowed: {allowed}"));
+    let toml::Value::Array(items) = v else {
+        return Err(bad());
+    };
+    let mut out = [false; 3];
+    for item in items {
+        let toml::Value::String(s) = item else {
+            return Err(bad());
+        };
+        let t = Term::from_name(s).ok_or_else(|| {
+            input(format!(
+                "{field} = \"{s}\" is not a term; allowed: {}",
+                names.join(", ")
+            ))
+        })?;
+        out[t as usize] = true;
+    }
+    if items.is_empty() {
+        return Err(bad());
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every field the parser reads, by section.
+    const FIELDS: [(&str, &[&str]); 7] = [
+        ("sun", &["direction", "irradiance", "angular_radius_deg"]),
+        ("surface", &["z", "ior", "kind", "seed"]),
+        (
+            "surface.waves",
+            &["amplitude", "wavelength", "direction_deg", "phase_deg"],
+        ),
+        ("water", &["sigma_s", "sigma_a", "phase"]),
+        ("floor", &["z", "pattern", "size", "albedo_a", "albedo_b"]),
+        (
+            "camera",
+            &["position", "look_at", "up", "fov", "width", "height"],
+        ),
+        (
+            "render",
+            &[
+                "spp",
+                "seed",
+                "terms",
+                "technique",
+                "theta_max",
+                "mis_rate",
+                "mis_theta_min",
+                "shafts",
+                "once_more_samples",
+                "shaft_samples",
+                "margin",
+                "max_distance",
+                "camera_share",
+                "eye_share",
+                "eye_radius",
+                "exposure",
+            ],
+        ),
+    ];
+
+    #[test]
+    fn the_builtin_scene_documents_every_field_with_default_and_range() {
+        for (section, keys) in FIELDS {
+            for key in keys {
+                // The field's line and the comment lines continuing it.
+                let lines: Vec<&str> = UNDERWATER_SCENE.lines().collect();
+                let at = lines
+                    .iter()
+                    .position(|l| l.trim_start_matches("# ").starts_with(&format!("{key} =")))
+                    .unwrap_or_else(|| panic!("{section}.{key} is not in the built-in scene"));
+                let line =
+                    std::iter::once(lines[at])
+                        .chain(lines[at + 1..].iter().copied().take_while(|l| {
+                            l.starts_with("    ") && l.trim_start().starts_with('#')
+                        }))
+                        .collect::<Vec<_>>()
+                        .join(" ");
+                assert!(
+                    line.contains("default") || line.contains("required"),
+                    "{section}.{key}: {line}"
+                );
+            }
+        }
+        // And the parser knows no other field: an unknown one is refused
+        // with the list of the known ones.
+        let text = UNDERWATER_SCENE.replacen("[sun]\n", "[sun]\nwobble = 1\n", 1);
+        let e = UnderwaterScene::parse(&text).unwrap_err().to_string();
+        assert!(
+            e.contains("sun.wobble") && e.contains("angular_radius_deg, direction, irradiance"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn the_builtin_scene_parses_with_its_documented_values() {
+        let s = UnderwaterScene::builtin();
+        assert_eq!(s.ior, 1.33);
+        assert!(!s.surface.is_flat());
+        assert_eq!(s.floor.z, -4.0);
+        assert_eq!(s.render.terms, [true; 3]);
+        assert_eq!(
+            s.render.technique,
+            TechniqueChoice::Fixed(OnceMoreTech::Mis)
+        );
+        assert!((s.sun.angular_radius - 0.27f32.to_radians()).abs() < 1e-9);
+    }
+}

@@ -1,0 +1,777 @@
+//! Light tracing under water: sun rays through the surface to the floor, and
+//! the three terms that connect them to the camera (docs/math.md §13):
+//!
+//! - `caustics`: the floor point `x0` straight to the eye;
+//! - `caustics-once-more`: `x0 → x1 → eye` with `x1` placed by the once-more
+//!   technique, the blur with depth;
+//! - `shafts`: a point on the refracted sun ray in the water straight to the
+//!   eye, the god rays.
+//!
+//! Each light path is one sample of the sun's flux through a region of the
+//! surface; every term splats its contribution to the pixel its last vertex
+//! projects to, with the camera's importance ([`super::camera`]).
+
+use super::camera::{Pinhole, Projection};
+use super::floor::Floor;
+use super::optics::{fresnel_transmittance, refract};
+use super::sun::Sun;
+use super::surface::Surface;
+use super::water::{EquiangularLine, Water};
+use crate::rng::Rng;
+use glam::{Vec2, Vec3};
+use omnee_core::mis::OmneeMis;
+use omnee_core::phase::{Deflection, Phase, PhaseFunction};
+use omnee_core::sampling::{Connection, Omnee, Sample, Technique};
+
+/// A transport term of the underwater scene; its index is its layer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Term {
+    /// The floor point straight to the eye.
+    Caustics = 0,
+    /// Floor point, once more scattered in the water, to the eye.
+    CausticsOnceMore = 1,
+    /// A point on the refracted sun ray straight to the eye.
+    Shafts = 2,
+}
+
+impl Term {
+    /// Every term, in layer order.
+    pub const ALL: [Term; 3] = [Term::Caustics, Term::CausticsOnceMore, Term::Shafts];
+
+    /// The term's name on the command line and as the EXR layer.
+    pub fn name(self) -> &'static str {
+        match self {
+            Term::Caustics => "caustics",
+            Term::CausticsOnceMore => "caustics-once-more",
+            Term::Shafts => "shafts",
+        }
+    }
+
+    /// The term called `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|t| t.name() == name)
+    }
+}
+
+/// How the shafts term places its vertex on the refracted sun ray.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShaftSampling {
+    /// Free-flight distance from the channel mixture of σt.
+    FreeFlight,
+    /// Equiangular distance about the eye.
+    Equiangular,
+    /// One of the two with probability ½ each, weighted by the mixture
+    /// density (one-sample MIS with the balance heuristic).
+    Mis,
+}
+
+impl ShaftSampling {
+    /// The names, in the order of the variants.
+    pub const NAMES: [&'static str; 3] = ["free-flight", "equiangular", "mis"];
+
+    /// The sampling called `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "free-flight" => Some(Self::FreeFlight),
+            "equiangular" => Some(Self::Equiangular),
+            "mis" => Some(Self::Mis),
+            _ => None,
+        }
+    }
+}
+
+/// One contribution to the image: a pixel, a term and its RGB value
+/// (radiance times the number of paths, W/(m²·sr)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Splat {
+    /// Pixel index `y · width + x` in the full image.
+    pub pixel: u32,
+    /// The term.
+    pub term: Term,
+    /// The value.
+    pub value: Vec3,
+}
+
+/// Counters of the work done and skipped.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Light paths started.
+    pub paths: u64,
+    /// Paths whose start point fell outside the lit region (no work).
+    pub outside_region: u64,
+    /// Paths lost at the surface: refracted back out through a crest
+    /// before reaching the troughs' depth, or met from below.
+    pub lost_at_surface: u64,
+    /// Paths that reached the floor.
+    pub floor_hits: u64,
+    /// Splats per term (contributions landing in the image).
+    pub splats: [u64; 3],
+    /// Once-more draws whose technique gave no vertex.
+    pub no_vertex: u64,
+    /// Wave-band visibility tests marched (segments with an end above the troughs).
+    pub surface_tests: u64,
+}
+
+impl Stats {
+    /// Adds another run's counters.
+    pub fn add(&mut self, o: &Stats) {
+        self.paths += o.paths;
+        self.outside_region += o.outside_region;
+        self.lost_at_surface += o.lost_at_surface;
+        self.floor_hits += o.floor_hits;
+        for k in 0..3 {
+            self.splats[k] += o.splats[k];
+        }
+        self.no_vertex += o.no_vertex;
+        self.surface_tests += o.surface_tests;
+    }
+}
+
+/// How light paths choose their floor point `x_f` (13.4 of docs/math.md):
+/// with probability `camera` through a uniform point of the image's cells
+/// that see the floor ([`FloorCells`]), with
+/// probability `eye` on a beam passing the eye at a distance uniform in
+/// `[0, eye_radius]`, else uniformly on the region.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aim {
+    /// Share of paths aimed through the image.
+    pub camera: f32,
+    /// Share of paths aimed past the eye.
+    pub eye: f32,
+    /// The largest distance from the eye of those beams (m).
+    pub eye_radius: f32,
+}
+
+/// The cells of a 32 × 24 grid over the image through which the camera sees
+/// the floor: those with a corner ray going down. The height of a ray
+/// direction is linear on the image plane, so a cell whose four corners look
+/// up has no ray that looks down: the cells hold every floor point in view.
+/// Paths aimed through the image draw a uniform point of these cells, and
+/// none is wasted on the water above the horizon.
+#[derive(Clone, Debug)]
+pub struct FloorCells {
+    /// Indices `row · COLUMNS + column` of the cells that see the floor.
+    cells: Vec<u32>,
+    /// Per cell, whether it sees the floor.
+    sees: Vec<bool>,
+    width: f32,
+    height: f32,
+}
+
+impl FloorCells {
+    const COLUMNS: u32 = 32;
+    const ROWS: u32 = 24;
+
+    /// The cells of `camera`'s image that see down.
+    pub fn new(camera: &Pinhole) -> Self {
+        let (w, h) = (camera.width as f32, camera.height as f32);
+        let mut sees = Vec::new();
+        let mut cells = Vec::new();
+        for row in 0..Self::ROWS {
+            for column in 0..Self::COLUMNS {
+                let corner = |i: u32, j: u32| {
+                    camera
+                        .ray(
+                            w * i as f32 / Self::COLUMNS as f32,
+                            h * j as f32 / Self::ROWS as f32,
+                        )
+                        .z
+                        < 0.0
+                };
+                let down = corner(column, row)
+                    || corner(column + 1, row)
+                    || corner(column, row + 1)
+                    || corner(column + 1, row + 1);
+                if down {
+                    cells.push(row * Self::COLUMNS + column);
+                }
+                sees.push(down);
+            }
+        }
+        Self {
+            cells,
+            sees,
+            width: w,
+            height: h,
+        }
+    }
+
+    /// The share of the image the cells cover.
+    pub fn fraction(&self) -> f32 {
+        self.cells.len() as f32 / (Self::COLUMNS * Self::ROWS) as f32
+    }
+
+    /// A uniform image point (pixels) in the cells: `u0` picks the cell and
+    /// the column inside it, `u1` the row.
+    fn sample(&self, u: [f32; 2]) -> Option<(f32, f32)> {
+        let n = self.cells.len();
+        if n == 0 {
+            return None;
+        }
+        let scaled = u[0] * n as f32;
+        let k = (scaled as usize).min(n - 1);
+        let fx = (scaled - k as f32).clamp(0.0, 1.0);
+        let cell = self.cells[k];
+        let (column, row) = ((cell % Self::COLUMNS) as f32, (cell / Self::COLUMNS) as f32);
+        Some((
+            (column + fx) / Self::COLUMNS as f32 * self.width,
+            (row + u[1]) / Self::ROWS as f32 * self.height,
+        ))
+    }
+
+    /// Whether the image point `(x, y)` (pixels, inside the image) is in a cell.
+    fn contains(&self, x: f32, y: f32) -> bool {
+        let column = ((x / self.width * Self::COLUMNS as f32) as u32).min(Self::COLUMNS - 1);
+        let row = ((y / self.height * Self::ROWS as f32) as u32).min(Self::ROWS - 1);
+        self.sees[(row * Self::COLUMNS + column) as usize]
+    }
+}
+
+/// The region of the floor whose flat-water sun rays light the light paths:
+/// `x_f ∈ [lo, hi]`, the point a sun ray would reach on the floor through a
+/// flat surface. A path starts at `x_s = x_f − offset` on the plane
+/// `z_top` above every crest; the offset is the flat-water displacement of
+/// the sun's central direction, so `x_s` and `x_f` have the same density.
+#[derive(Clone, Debug)]
+pub struct LightRegion {
+    /// Lower corner of the rectangle on the floor.
+    pub lo: Vec2,
+    /// Upper corner.
+    pub hi: Vec2,
+    /// `x_f − x_s` for the sun's central direction.
+    pub offset: Vec2,
+    /// The start plane's height.
+    pub z_top: f32,
+    /// The refracted central sun direction through a flat surface.
+    pub beam: Vec3,
+    /// How `x_f` is drawn.
+    pub aim: Aim,
+    /// The image cells that see the floor, for the paths aimed through the image.
+    pub cells: FloorCells,
+}
+
+impl LightRegion {
+    /// The rectangle's area.
+    pub fn area(&self) -> f32 {
+        let e = self.hi - self.lo;
+        e.x * e.y
+    }
+
+    /// Whether `p` is inside the rectangle.
+    pub fn contains(&self, p: Vec2) -> bool {
+        p.x >= self.lo.x && p.y >= self.lo.y && p.x <= self.hi.x && p.y <= self.hi.y
+    }
+}
+
+/// The techniques for the once-more vertex `x1` of `caustics-once-more`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OnceMoreTech {
+    /// OMNEE: the deflection from the phase function, then the circumcircle arc.
+    Omnee,
+    /// Equiangular from a camera ray through a uniform image point.
+    Equiangular,
+    /// OMNEE's vertex, and with probability `rate` a camera-ray equiangular
+    /// vertex kept behind θ ≥ θmin, balance heuristic there ([`OmneeMis`];
+    /// the scene's defaults are [`OmneeMis::recommended`]'s 0.05 and 3π/4).
+    Mis,
+}
+
+impl OnceMoreTech {
+    /// The technique's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Omnee => "omnee",
+            Self::Equiangular => "equiangular",
+            Self::Mis => "mis",
+        }
+    }
+}
+
+/// How the once-more term is estimated.
+#[derive(Clone, Copy, Debug)]
+pub struct OnceMore {
+    /// The technique for `x1`.
+    pub tech: OnceMoreTech,
+    /// The integrand's restriction θ < θmax.
+    pub theta_max: f32,
+    /// The mis companion's rate `c ∈ [0, 1]`.
+    pub mis_rate: f32,
+    /// The mis companion's cone edge θmin.
+    pub mis_theta_min: f32,
+}
+
+/// The underwater scene in f32, ready to trace.
+pub struct World<'a> {
+    /// The sun.
+    pub sun: Sun,
+    /// The water surface.
+    pub surface: Surface,
+    /// Refractive index of the water (air is 1).
+    pub ior: f32,
+    /// The water's coefficients.
+    pub water: Water,
+    /// The phase function, shared by the channels.
+    pub phase: Phase<'a, f32>,
+    /// The floor.
+    pub floor: Floor,
+    /// The camera.
+    pub camera: Pinhole,
+    /// Where light paths start.
+    pub region: LightRegion,
+    /// Farthest distance from the eye that the camera-ray techniques sample (m).
+    pub max_distance: f32,
+    /// Which terms to evaluate.
+    pub terms: [bool; 3],
+    /// The once-more technique.
+    pub once_more: OnceMore,
+    /// The shafts' sampling.
+    pub shafts: ShaftSampling,
+    /// Once-more draws per floor point and shaft vertices per refracted ray:
+    /// `[once-more, shafts]`, each contribution divided by its count.
+    pub samples: [u32; 2],
+}
+
+/// The deflection of the central sun ray after a flat surface, and the
+/// flat-water horizontal displacement from `z_top` down to `z_floor`.
+pub fn flat_water_offset(
+    sun: &Sun,
+    ior: f32,
+    z_surface: f32,
+    z_top: f32,
+    z_floor: f32,
+) -> (Vec3, Vec2) {
+    let d = -sun.direction;
+    let (dt, _) = refract(d, Vec3::Z, 1.0 / ior).unwrap_or((Vec3::NEG_Z, 1.0));
+    let air = d.truncate() * ((z_top - z_surface) / -d.z);
+    let water = dt.truncate() * ((z_surface - z_floor) / -dt.z);
+    (dt, air + water)
+}
+
+impl World<'_> {
+    /// The region of the floor whose flat-water sun rays cross what the
+    /// camera sees out to `max_distance`: the camera's rays on a 17 × 17
+    /// grid of the image, followed to the floor, the troughs' plane or
+    /// `max_distance`, with points along them carried down to the floor along
+    /// the refracted central sun ray; their bounding box grown by `margin`.
+    pub fn light_region(&self, margin: f32, aim: Aim) -> LightRegion {
+        let z_top = self.surface.crest();
+        let (dt, offset) =
+            flat_water_offset(&self.sun, self.ior, self.surface.z, z_top, self.floor.z);
+        let to_floor = |p: Vec3| p.truncate() + dt.truncate() * ((p.z - self.floor.z) / -dt.z);
+        let (mut lo, mut hi) = (Vec2::splat(f32::MAX), Vec2::splat(f32::MIN));
+        let n = 16;
+        for i in 0..=n {
+            for j in 0..=n {
+                let c = &self.camera;
+                let d = c.ray(
+                    c.width as f32 * i as f32 / n as f32,
+                    c.height as f32 * j as f32 / n as f32,
+                );
+                let t_end = self.water_segment(c.eye, d);
+                for k in 0..=8 {
+                    let q = to_floor(c.eye + d * (t_end * k as f32 / 8.0));
+                    lo = lo.min(q);
+                    hi = hi.max(q);
+                }
+            }
+        }
+        LightRegion {
+            lo: lo - Vec2::splat(margin),
+            hi: hi + Vec2::splat(margin),
+            offset,
+            z_top,
+            beam: dt,
+            aim,
+            cells: FloorCells::new(&self.camera),
+        }
+    }
+
+    /// The length of the ray `o + t d` from the eye through the water band
+    /// below the crests and above the floor, capped at `max_distance`.
+    fn water_segment(&self, o: Vec3, d: Vec3) -> f32 {
+        let t = if d.z < 0.0 {
+            (self.floor.z - o.z) / d.z
+        } else if d.z > 0.0 {
+            (self.surface.crest() - o.z) / d.z
+        } else {
+            f32::INFINITY
+        };
+        t.min(self.max_distance)
+    }
+
+    /// Whether `x` is in the water: above the floor, below the surface.
+    fn in_water(&self, x: Vec3) -> bool {
+        x.z > self.floor.z
+            && (x.z <= self.surface.trough() || x.z < self.surface.height(x.truncate()))
+    }
+
+    /// Whether the segment `a → b` between points in the water stays in it
+    /// (only segments reaching into the wave band are marched).
+    fn clear(&self, a: Vec3, b: Vec3, stats: &mut Stats) -> bool {
+        let trough = self.surface.trough();
+        if a.z <= trough && b.z <= trough {
+            return true;
+        }
+        stats.surface_tests += 1;
+        self.surface.segment_under(a, b)
+    }
+
+    /// The density in floor area of the floor point `x_f` a light path aims at: on the
+    /// rectangle `R`, `c q_cam(x_f) + e q_eye(x_f) + (1 − c − e)/|R|`, with
+    /// `q_cam = cos θ0 / (d² · f 4wh · cos³θ)` the density of the floor point
+    /// hit by a uniform image point of the cells that see the floor, a share
+    /// `f` of the image (`dω = cos θ0 dA/d²`, `dω = cos³θ dA_image`)
+    /// and `q_eye = cos θt / (2π ρ D)` for the beam through `x_f` passing the
+    /// eye at the distance `D < ρ` (uniform in `D` and in angle about the eye
+    /// in the plane across the beam, whose area is `cos θt` times the floor's).
+    pub fn start_pdf(&self, xf: Vec3) -> f32 {
+        let r = &self.region;
+        if !r.contains(xf.truncate()) {
+            return 0.0;
+        }
+        let uniform = (1.0 - r.aim.camera - r.aim.eye) / r.area();
+        let c = &self.camera;
+        let v = c.eye - xf;
+        // The image points that see the floor cover `fraction · 4wh` of the plane.
+        let cam = match c.image_point(-v) {
+            Some((x, y, cos))
+                if x >= 0.0
+                    && y >= 0.0
+                    && x < c.width as f32
+                    && y < c.height as f32
+                    && r.cells.contains(x, y) =>
+            {
+                let d2 = v.length_squared();
+                let cos0 = v.z / d2.sqrt();
+                cos0 / (d2 * c.image_area() * r.cells.fraction() * cos * cos * cos)
+            }
+            _ => 0.0,
+        };
+        let dist = v.cross(r.beam).length();
+        let eye = if dist < r.aim.eye_radius && dist > 0.0 {
+            -r.beam.z / (std::f32::consts::TAU * r.aim.eye_radius * dist)
+        } else {
+            0.0
+        };
+        r.aim.camera * cam + r.aim.eye * eye + uniform
+    }
+
+    /// The floor point `x_f` a light path aims at (see [`Aim`]); `None`
+    /// outside the rectangle (or for an image point above the horizon).
+    fn start(&self, u: [f32; 3]) -> Option<Vec3> {
+        let r = &self.region;
+        let c = &self.camera;
+        let xf = if u[0] < r.aim.camera {
+            let (x, y) = r.cells.sample([u[1], u[2]])?;
+            let d = c.ray(x, y);
+            if !(d.z < 0.0) {
+                return None;
+            }
+            c.eye + d * ((self.floor.z - c.eye.z) / d.z)
+        } else if u[0] < r.aim.camera + r.aim.eye {
+            // A point of the disc across the beam about the eye, carried
+            // down the beam to the floor.
+            let (e1, e2) = r.beam.any_orthonormal_pair();
+            let (sin, cos) = (std::f32::consts::TAU * u[2]).sin_cos();
+            let q = c.eye + (e1 * cos + e2 * sin) * (u[1] * r.aim.eye_radius);
+            q + r.beam * ((self.floor.z - q.z) / r.beam.z)
+        } else {
+            let e = r.hi - r.lo;
+            Vec3::new(r.lo.x + u[1] * e.x, r.lo.y + u[2] * e.y, self.floor.z)
+        };
+        let xf = xf.truncate().extend(self.floor.z);
+        r.contains(xf.truncate()).then_some(xf)
+    }
+
+    /// Traces one light path and appends its splats.
+    pub fn trace(&self, rng: &mut Rng, out: &mut Vec<Splat>, stats: &mut Stats) {
+        stats.paths += 1;
+        let Some(xf) = self.start(uniform3(rng)) else {
+            stats.outside_region += 1;
+            return;
+        };
+        let (to_sun, flux_factor) = self.sun.sample([rng.uniform(), rng.uniform()]);
+        // Flux through the start plane: L Ω (ω · z) / pdf(x_s).
+        let power = flux_factor * to_sun.z / self.start_pdf(xf);
+        let xs = (xf.truncate() - self.region.offset).extend(self.region.z_top);
+        let d = -to_sun;
+        let Some((t_hit, point)) = self.surface.hit_from_above(xs, d) else {
+            stats.lost_at_surface += 1;
+            return;
+        };
+        let y = xs + d * t_hit;
+        let cos_i = -d.dot(point.normal);
+        let Some((dt, _)) = refract(d, point.normal, 1.0 / self.ior) else {
+            stats.lost_at_surface += 1;
+            return;
+        };
+        if !(dt.z < 0.0 && power.is_finite()) {
+            stats.lost_at_surface += 1;
+            return;
+        }
+        let power = power * fresnel_transmittance(cos_i, 1.0, self.ior);
+        let t_floor = (self.floor.z - y.z) / dt.z;
+        let mut x0 = y + dt * t_floor;
+        x0.z = self.floor.z;
+        // The refracted ray must not leave through a neighbouring crest.
+        if !self.surface.is_flat() {
+            stats.surface_tests += 1;
+            if !self.surface.segment_under(y + dt * 1e-3, x0) {
+                stats.lost_at_surface += 1;
+                return;
+            }
+        }
+        stats.floor_hits += 1;
+        if self.terms[Term::Shafts as usize] {
+            let k = self.samples[1];
+            let share = power / k as f32;
+            for _ in 0..k {
+                self.shaft(y, dt, t_floor, share, rng, out, stats);
+            }
+        }
+        // Flux arriving at x0 per channel, times the floor's BRDF: the
+        // radiance leaving x0 in any direction, per unit area density.
+        let radiance = self.water.transmittance(t_floor)
+            * self.floor.albedo(x0.truncate())
+            * (power * std::f32::consts::FRAC_1_PI);
+        if self.terms[Term::Caustics as usize] {
+            self.caustic(x0, radiance, out, stats);
+        }
+        if self.terms[Term::CausticsOnceMore as usize] {
+            let k = self.samples[0];
+            let share = radiance / k as f32;
+            for _ in 0..k {
+                self.caustic_once_more(x0, share, rng, out, stats);
+            }
+        }
+    }
+
+    /// Pushes a splat of `value` for `term` through `projection`.
+    #[inline]
+    fn splat(
+        &self,
+        term: Term,
+        p: Projection,
+        value: Vec3,
+        out: &mut Vec<Splat>,
+        stats: &mut Stats,
+    ) {
+        if value.is_finite() && value.max_element() > 0.0 {
+            stats.splats[term as usize] += 1;
+            out.push(Splat {
+                pixel: p.pixel as u32,
+                term,
+                value,
+            });
+        }
+    }
+
+    /// `caustics`: `L(x0) cos θ0 T(x0, eye) W(ω) / d²`.
+    fn caustic(&self, x0: Vec3, radiance: Vec3, out: &mut Vec<Splat>, stats: &mut Stats) {
+        let Some(p) = self.camera.project(x0) else {
+            return;
+        };
+        let v = self.camera.eye - x0;
+        let d2 = v.length_squared();
+        let d = d2.sqrt();
+        let cos0 = v.z / d;
+        if !(cos0 > 0.0) {
+            return;
+        }
+        let value = radiance * self.water.transmittance(d) * (cos0 * p.importance / d2);
+        self.splat(Term::Caustics, p, value, out, stats);
+    }
+
+    /// `caustics-once-more` from the floor point `x0` leaving `radiance`
+    /// (the same in every direction): for each vertex `x1` of the technique's
+    /// draw, `L(x0) cos θ0 σs T(x0, x1) T(x1, eye) W(ω1) · k/pdf`, with
+    /// `k/pdf` the technique's weight (`k = p(θ)/(d1² d2²)`).
+    pub fn caustic_once_more(
+        &self,
+        x0: Vec3,
+        radiance: Vec3,
+        rng: &mut Rng,
+        out: &mut Vec<Splat>,
+        stats: &mut Stats,
+    ) {
+        let eye = self.camera.eye;
+        let Ok(connection) = Connection::new(x0, eye, self.once_more.theta_max) else {
+            return;
+        };
+        let vertices = self.draw(connection, rng);
+        if vertices[0].is_none() {
+            stats.no_vertex += 1;
+        }
+        for s in vertices.into_iter().flatten() {
+            let x1 = s.x1;
+            if !(s.weight > 0.0 && self.in_water(x1)) {
+                continue;
+            }
+            let Some(p) = self.camera.project(x1) else {
+                continue;
+            };
+            let (a, b) = (x1 - x0, eye - x1);
+            let (d1, d2) = (a.length(), b.length());
+            let cos0 = a.z / d1;
+            if !(cos0 > 0.0) || !self.clear(x0, x1, stats) || !self.clear(x1, eye, stats) {
+                continue;
+            }
+            let value = radiance
+                * self.water.sigma_s
+                * self.water.transmittance(d1 + d2)
+                * (cos0 * p.importance * s.weight);
+            self.splat(Term::CausticsOnceMore, p, value, out, stats);
+        }
+    }
+
+    /// The once-more technique's vertices for `connection`.
+    fn draw(&self, connection: Connection<f32>, rng: &mut Rng) -> [Option<Sample<f32>>; 2] {
+        let omnee = Omnee::new(connection, &self.phase);
+        let camera_rays = CameraEquiangular {
+            world: self,
+            connection,
+        };
+        match self.once_more.tech {
+            OnceMoreTech::Omnee => [omnee.sample(uniform3(rng)), None],
+            OnceMoreTech::Equiangular => [camera_rays.sample(uniform3(rng)), None],
+            OnceMoreTech::Mis => {
+                let [a, b, c] = uniform3(rng);
+                let [d, e, f] = uniform3(rng);
+                let theta_min = Deflection::from_theta(self.once_more.mis_theta_min);
+                match OmneeMis::new(omnee, &camera_rays, self.once_more.mis_rate, theta_min) {
+                    Ok(mis) => mis.sample([a, b, c, d, e, f]),
+                    // The scene parser keeps the rate in [0, 1].
+                    Err(_) => [omnee.sample([a, b, c]), None],
+                }
+            }
+        }
+    }
+
+    /// `shafts`: a point `x = y + t ω_t` on the refracted ray (`t ∈ [0, len]`),
+    /// `Φ T(y, x) σs p(θ) T(x, eye) W(ω) / (d² pdf(t))`.
+    #[allow(clippy::too_many_arguments)]
+    fn shaft(
+        &self,
+        y: Vec3,
+        dt: Vec3,
+        len: f32,
+        power: f32,
+        rng: &mut Rng,
+        out: &mut Vec<Splat>,
+        stats: &mut Stats,
+    ) {
+        let eye = self.camera.eye;
+        let [u0, u1, _] = uniform3(rng);
+        let line = EquiangularLine::new(y, dt, len, eye);
+        let free = |t: f32| self.water.free_flight_pdf(len, t);
+        let (t, pdf) = match (self.shafts, line) {
+            (ShaftSampling::Equiangular, Some(l)) => {
+                let t = l.sample(u0);
+                (t, l.pdf(t))
+            }
+            (ShaftSampling::Mis, Some(l)) => {
+                let t = if u0 < 0.5 {
+                    l.sample(2.0 * u0)
+                } else {
+                    self.water.free_flight(len, [2.0 * u0 - 1.0, u1])
+                };
+                (t, 0.5 * (l.pdf(t) + free(t)))
+            }
+            // Free flight, or the eye on the ray's line (no equiangular density).
+            _ => {
+                let t = self.water.free_flight(len, [u0, u1]);
+                (t, free(t))
+            }
+        };
+        let x = y + dt * t;
+        let Some(p) = self.camera.project(x) else {
+            return;
+        };
+        let v = eye - x;
+        let d2 = v.length_squared();
+        let d = d2.sqrt();
+        if !(d > 0.0 && pdf > 0.0 && self.clear(x, eye, stats)) {
+            return;
+        }
+        let phase = self.phase.eval(Deflection::between_segments(dt, 1.0, v, d));
+        let value = self.water.transmittance(t + d)
+            * self.water.sigma_s
+            * (power * phase * p.importance / (d2 * pdf));
+        self.splat(Term::Shafts, p, value, out, stats);
+    }
+}
+
+/// Three uniform numbers from `rng`.
+#[inline]
+fn uniform3(rng: &mut Rng) -> [f32; 3] {
+    [rng.uniform(), rng.uniform(), rng.uniform()]
+}
+
+/// Equiangular sampling of `x1` from a camera ray through a uniform point
+/// of the image, towards `x0`: the ray direction with density
+/// `p_ω = 1/(4wh cos³θ)` ([`Pinhole::ray_pdf`]), the distance equiangular
+/// about `x0` on the ray's water segment; in the volume measure
+/// `pdf(x1) = p_ω · pdf(t) / t²`, and the weight `k/pdf = p(θ)/(d1² p_ω pdf(t))`.
+struct CameraEquiangular<'w, 'a> {
+    world: &'w World<'a>,
+    connection: Connection<f32>,
+}
+
+impl CameraEquiangular<'_, '_> {
+    fn line(&self, d: Vec3) -> Option<EquiangularLine> {
+        let eye = self.world.camera.eye;
+        let len = self.world.water_segment(eye, d);
+        EquiangularLine::new(eye, d, len, self.connection.axis.x0)
+    }
+}
+
+impl Technique<f32> for CameraEquiangular<'_, '_> {
+    fn sample(&self, u: [f32; 3]) -> Option<Sample<f32>> {
+        let c = &self.world.camera;
+        let d = c.ray(u[0] * c.width as f32, u[1] * c.height as f32);
+        let line = self.line(d)?;
+        let t = line.sample(u[2]);
+        if !(t > 0.0) {
+            return None;
+        }
+        let x1 = c.eye + d * t;
+        let pdf_w = c.ray_pdf(d);
+        let pdf_t = line.pdf(t);
+        let (deflection, d1) = self.connection.deflection_along(d, t)?;
+        let weight = if deflection.theta < self.connection.theta_max {
+            self.world.phase.eval(deflection) / (d1 * d1 * pdf_w * pdf_t)
+        } else {
+            0.0
+        };
+        Some(Sample {
+            x1,
+            pdf: pdf_w * pdf_t / (t * t),
+            weight: if weight.is_finite() { weight } else { 0.0 },
+        })
+    }
+
+    fn pdf(&self, x1: Vec3) -> f32 {
+        let c = &self.world.camera;
+        let v = x1 - c.eye;
+        let t = v.length();
+        if c.project(x1).is_none() || !(t > 0.0) {
+            return 0.0;
+        }
+        let d = v / t;
+        match self.line(d) {
+            Some(line) if t <= self.world.water_segment(c.eye, d) => {
+                c.ray_pdf(d) * line.pdf(t) / (t * t)
+            }
+            _ => 0.0,
+        }
+    }
+
+    fn invert(&self, x1: Vec3) -> Option<[f32; 3]> {
+        let c = &self.world.camera;
+        let v = x1 - c.eye;
+        let (x, y, _) = c.image_point(v)?;
+        let t = v.length();
+        let line = self.line(v / t)?;
+        Some([x / c.width as f32, y / c.height as f32, line.invert(t)])
+    }
+}

@@ -1,0 +1,118 @@
+"""omnee: once-more scattered next event estimation (OMNEE) over numpy arrays.
+
+Between a light-side point ``x0`` and a receiver-side point ``x2``, OMNEE places
+one scattering vertex ``x1`` angle first: the deflection θ from the phase
+function, then ``x1`` on the circumcircle arc of constant θ through ``x0`` and
+``x2``. Its estimator of the once-scattered transfer is ``f_c · θ/(s sin θ)``
+(Hanika, Weidlich, Droske, EGSR 2022).
+
+The API follows Mitsuba 3's warp functions (``square_to_X``,
+``square_to_X_pdf``, ``X_to_square``): plain uniform numbers in, points,
+densities and weights out, vectorised over arrays:
+
+>>> import numpy as np, omnee
+>>> phase = omnee.Phase("hg:0.9")
+>>> t = omnee.Omnee(x0=[0, 0, 1], x2=[0, 0, 0], phase=phase)
+>>> s = t.sample(np.random.default_rng(1).random((4, 3)))
+>>> s.x1.shape, s.pdf.shape, bool(s.valid.all())
+((4, 3), (4,), True)
+>>> u = t.invert(s.x1).u            # back to the uniform numbers
+
+Precision follows the input: float32 arrays are computed in f32 (the
+renderer's precision) and answered in float32; float64, integer and bool
+arrays, Python numbers and lists in f64. The GIL is released while the Rust
+core samples. Bad parameters raise ``ValueError`` naming the field and its
+allowed range; arrays of a wrong shape ``ValueError``, of a wrong dtype
+``TypeError``.
+"""
+
+from typing import NamedTuple, Optional
+
+import numpy as np
+
+from ._omnee import (
+    Distance,
+    Equiangular,
+    Mis,
+    Omnee,
+    Phase,
+    Technique,
+    __version__,
+    estimate,
+)
+
+__all__ = [
+    "Phase",
+    "Technique",
+    "Omnee",
+    "Equiangular",
+    "Distance",
+    "Mis",
+    "estimate",
+    "Samples",
+    "Inversion",
+    "Estimate",
+    "__version__",
+]
+
+
+class Samples(NamedTuple):
+    """What ``Technique.sample(u)`` returns, one entry per draw.
+
+    For ``u`` of shape ``(..., 3)``: ``x1`` has shape ``(..., 3)`` and the
+    others ``(...)``. ``Mis`` draws two vertices (OMNEE's and, now and then,
+    the companion's) from ``u`` of shape ``(..., 6)``: ``x1`` then has shape
+    ``(..., 2, 3)`` and the others ``(..., 2)``; the estimate of a draw is the
+    sum over both of ``f_c(x1) · weight``.
+
+    Where ``valid`` is False (the numbers give no vertex: θ ≥ θmax, outside
+    the medium, on an end point, or no companion drawn) ``x1``, ``pdf`` and
+    ``weight`` are 0, so ``sum(f_c(x1) * weight)`` stays unbiased.
+    """
+
+    x1: np.ndarray
+    """The scattering vertex."""
+    pdf: np.ndarray
+    """Its density in the volume measure (m⁻³), finite (saturating at the dtype's max)."""
+    weight: np.ndarray
+    """The estimator ``k(x1)/pdf(x1)`` without ``f_c``, with the kernel
+    ``k = p(θ)/(d1² d2²)``, in its closed form (m⁻¹), finite and ≥ 0."""
+    valid: np.ndarray
+    """Whether the numbers gave a vertex (bool)."""
+
+
+class Inversion(NamedTuple):
+    """What ``Technique.invert(x1)`` returns: ``u`` of shape ``(..., 3)`` with
+    ``sample(u).x1 == x1``, and ``valid`` of shape ``(...)``, False (and ``u``
+    0) where ``x1`` has no preimage (θ ≥ θmax, outside the medium, a mixture
+    phase function whose sampler is not invertible)."""
+
+    u: np.ndarray
+    """The uniform numbers."""
+    valid: np.ndarray
+    """Whether ``x1`` has a preimage (bool)."""
+
+
+class Estimate(NamedTuple):
+    """What ``estimate(...)`` returns: the fields of ``omnee estimate --json``."""
+
+    mean: float
+    """The estimate of the integral I."""
+    stderr: float
+    """Its standard error, ``sqrt(sample variance / samples)``."""
+    reference: Optional[float]
+    """I by f64 adaptive quadrature (None with ``reference=False``)."""
+    technique: str
+    """The technique used (what ``auto`` resolved to)."""
+    auto_reason: Optional[str]
+    """For ``technique="auto"``: why it picked what it did."""
+    samples: int
+    """The number of draws."""
+    accepted: int
+    """Draws whose technique's own vertex contributed (θ < θmax, inside the medium)."""
+    mean_cosine: float
+    """The phase function's g."""
+    tau: float
+    """The optical thickness ``sigma_t · |x2 − x0|``."""
+    seconds: float
+    """Wall time of the sampling and the quadrature."""

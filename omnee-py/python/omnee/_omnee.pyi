@@ -1,0 +1,180 @@
+"""Type stubs of the native module omnee._omnee (re-exported by ``omnee``).
+
+Array arguments follow one dtype rule: float32 arrays are computed in f32 and
+answered in float32; float64, integer and bool arrays, Python numbers and
+sequences in f64 (float64). Any other dtype raises TypeError. A 0-d result is
+returned as a numpy scalar.
+"""
+
+from typing import Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+from . import Estimate, Inversion, Samples
+
+ArrayLike = npt.ArrayLike
+Point = Union[Sequence[float], npt.NDArray[np.floating]]
+PhaseLike = Union["Phase", str]
+
+__version__: str
+
+class Phase:
+    """A phase function p(θ) of the deflection θ ∈ [0, π] between the incoming
+    and the outgoing propagation direction (θ = 0: straight on), normalised
+    over the sphere: ``2π ∫₀^π p(θ) sin θ dθ = 1``.
+
+    ``spec``: ``iso``; ``hg:G`` Henyey–Greenstein,
+    ``p = (1 − g²) / (4π (1 + g² − 2g cos θ)^{3/2})``, g ∈ (−1, 1);
+    ``tthg:G1,G2,W`` ``W·HG(G1) + (1 − W)·HG(G2)``; ``ff:B,N`` Fournier–Forand
+    with backscatter fraction B ∈ (0, 0.5) and refractive index
+    N ∈ [1.001, 1.5]; ``draine:G,ALPHA`` ``HG(G)·(1 + α cos²θ)``, normalised;
+    ``mie:DIAMETER_UM`` the approximate Mie fit (Jendersie & d'Eon 2023),
+    diameter ∈ (0, 50] µm; ``rayleigh`` ``p = 3/(16π) (1 + cos²θ)``;
+    ``table:FILE.csv`` lines ``angle_deg,value``.
+
+    Raises ValueError naming the parameter and its allowed range.
+    """
+
+    def __init__(self, spec: str) -> None: ...
+    @property
+    def spec(self) -> str:
+        """The spec string."""
+    def eval(self, theta: ArrayLike) -> np.ndarray:
+        """p(θ) per steradian, elementwise."""
+    def sample(self, u: ArrayLike) -> np.ndarray:
+        """θ = P⁻¹(u), the deflection drawn from u ∈ [0, 1) (clamped to [0, 1],
+        NaN to 0); its solid-angle density is ``pdf(θ)``."""
+    def pdf(self, theta: ArrayLike) -> np.ndarray:
+        """The solid-angle density of ``sample`` at θ; equals ``eval(θ)``."""
+    def cdf(self, theta: ArrayLike) -> np.ndarray:
+        """``P(Θ ≤ θ) = 2π ∫₀^θ p(θ') sin θ' dθ'``."""
+    def invert(self, theta: ArrayLike) -> np.ndarray:
+        """The u with ``sample(u) = θ`` (``cdf(θ)`` for inverse-CDF samplers).
+        Raises ValueError for the mixtures (tthg, mie), which pick a lobe with u."""
+    def mean_cosine(self) -> float:
+        """``g = ⟨cos θ⟩ = 2π ∫₀^π p(θ) cos θ sin θ dθ``."""
+    def backscatter_fraction(self) -> float:
+        """``B = P(Θ > π/2)``."""
+
+class Technique:
+    """A technique placing the scattering vertex ``x1`` of the once-more
+    scattered connection ``x0 → x1 → x2``, restricted to deflections
+    θ < θmax; every technique estimates the integral of the kernel
+    ``k(x1) = p(θ)/(d1² d2²)`` times the factors ``f_c`` it does not sample.
+
+    The base class of Omnee, Equiangular, Distance and Mis; not constructed
+    directly.
+    """
+
+    @property
+    def x0(self) -> Tuple[float, float, float]:
+        """The light-side end point."""
+    @property
+    def x2(self) -> Tuple[float, float, float]:
+        """The receiver-side end point."""
+    @property
+    def theta_max(self) -> float:
+        """The restriction θ < θmax, θmax ∈ (0, π]."""
+    @property
+    def phase(self) -> Phase:
+        """The phase function at ``x1``."""
+    @property
+    def dimension(self) -> int:
+        """Uniform numbers per draw: 3, or 6 for Mis."""
+    def sample(self, u: ArrayLike) -> Samples:
+        """``x1`` from uniform numbers ``u`` of shape ``(..., 3)`` (``(..., 6)``
+        for Mis): ``Samples(x1, pdf, weight, valid)``, with
+        ``weight = k(x1)/pdf(x1)`` in closed form."""
+    def pdf(self, x1: ArrayLike) -> np.ndarray:
+        """The volume density (m⁻³) of ``sample`` at points of shape
+        ``(..., 3)``; 0 where it never samples. For Mis the combined density
+        the vertices come with."""
+    def invert(self, x1: ArrayLike) -> Inversion:
+        """The uniform numbers ``sample`` maps to ``x1`` (shape ``(..., 3)``):
+        ``Inversion(u, valid)``. Raises NotImplementedError for Mis."""
+
+class Omnee(Technique):
+    """OMNEE: θ = P⁻¹(u0) from the phase function, ``β = u1 θ``,
+    ``φ = 2π u2`` on the circumcircle arc through x0 and x2;
+    ``pdf(x1) = p(θ) (sin θ/θ) s / (d1² d2²)``, ``weight = θ/(s sin θ)``
+    with ``s = |x2 − x0|``."""
+
+    def __init__(
+        self, x0: Point, x2: Point, phase: PhaseLike, theta_max: float = ...
+    ) -> None: ...
+
+class Equiangular(Technique):
+    """Equiangular sampling (Kulla & Fajardo 2012): a direction ω from x2
+    (uniform on the sphere, or cosine-weighted about ``normal``) from
+    ``(u0, u1)``, then the distance along it with density ∝ 1/d1² on the
+    medium segment (all of space, or the ``slab`` (z_min, z_max)):
+    ``pdf(x1) = pdf_ω(ω) c / (d1² d2²)``, ``weight = p(θ)/(pdf_ω(ω) c)``."""
+
+    def __init__(
+        self,
+        x0: Point,
+        x2: Point,
+        phase: PhaseLike,
+        theta_max: float = ...,
+        normal: Optional[Point] = None,
+        slab: Optional[Tuple[float, float]] = None,
+    ) -> None: ...
+
+class Distance(Technique):
+    """Distance sampling: a direction ω as for Equiangular, then the
+    exponential free-flight distance with coefficient ``sigma_t`` on the
+    medium segment [t_a, t_b]: ``pdf(t) = σ e^{−σ (t − t_a)} / (1 − e^{−σL})``,
+    ``pdf(x1) = pdf_ω(ω) pdf(t) / t²``."""
+
+    def __init__(
+        self,
+        x0: Point,
+        x2: Point,
+        phase: PhaseLike,
+        sigma_t: float,
+        theta_max: float = ...,
+        normal: Optional[Point] = None,
+        slab: Optional[Tuple[float, float]] = None,
+    ) -> None: ...
+
+class Mis(Technique):
+    """MIS as the CLI's ``mis``: OMNEE's vertex from ``u[0:3]`` always and,
+    when ``u3 < c = 0.05``, an equiangular companion from ``(u3/c, u4, u5)``
+    kept behind the cone θ ≥ 3π/4, balance heuristic there
+    (``pdf = p_O + c p_E``, ``w = p/(p_O + c p_E)``), OMNEE alone in front of
+    it. ``sample`` returns two vertices per draw (shape ``(..., 2, 3)``)."""
+
+    def __init__(
+        self,
+        x0: Point,
+        x2: Point,
+        phase: PhaseLike,
+        theta_max: float = ...,
+        normal: Optional[Point] = None,
+        slab: Optional[Tuple[float, float]] = None,
+    ) -> None: ...
+
+def estimate(
+    *,
+    x0: Point,
+    x2: Point,
+    sigma_s: float,
+    sigma_t: float,
+    phase: Optional[PhaseLike] = None,
+    technique: str = "auto",
+    samples: int = 100000,
+    seed: int = 1,
+    theta_max: float = ...,
+    receiver_normal: Optional[Point] = None,
+    dtype: npt.DTypeLike = None,
+    reference: bool = True,
+    threads: int = 0,
+) -> Estimate:
+    """The once-more scattered transfer from a unit point light at x0 to a
+    point receiver at x2 through an infinite homogeneous medium,
+    ``I = ∫ σs p(θ) e^{−σt (d1 + d2)} [cos θ2] / (d1² d2²) dx1`` over θ < θmax,
+    estimated exactly as ``omnee estimate --json`` with the same arguments
+    (``technique`` omnee, equiangular, distance, mis or auto; ``dtype``
+    float32 (default) or float64; ``phase`` default ``iso``), with the f64
+    quadrature reference when ``reference`` is True."""

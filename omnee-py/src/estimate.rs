@@ -1,0 +1,127 @@
+//! `omnee.estimate`: the point-to-point once-more integral of
+//! `omnee estimate`, computed by the same function
+//! ([`omnee_cli::commands::estimate::estimate`]), so the same seed gives the
+//! same numbers as `omnee estimate --json`. This module only turns Python's
+//! arguments into the command's options (whose fields the keyword arguments
+//! are named after, and which name a bad one as Python spells it) and the
+//! result into `omnee.Estimate`.
+
+use crate::error;
+use crate::phase::Phase;
+use omnee_cli::commands::estimate::{EstimateArgs, LobeArgs, estimate as run};
+use omnee_cli::commands::problem::{Names, Precision, ProblemArgs};
+use omnee_cli::names;
+use omnee_cli::technique::Technique;
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use std::f64::consts::PI;
+
+/// The precision from a numpy dtype (anything `numpy.dtype` accepts).
+fn precision(dtype: &Bound<'_, PyAny>) -> PyResult<Precision> {
+    let np = dtype.py().import("numpy")?;
+    let d = np.getattr("dtype")?.call1((dtype,))?;
+    let name: String = d.getattr("name")?.extract()?;
+    match name.as_str() {
+        "float32" => Ok(Precision::F32),
+        "float64" => Ok(Precision::F64),
+        _ => Err(PyTypeError::new_err(format!(
+            "dtype = {name} is not supported; allowed: float32 (the renderer's precision) or float64"
+        ))),
+    }
+}
+
+/// The technique called `name`, or `auto`.
+fn technique(name: &str) -> PyResult<Technique> {
+    names::parse(name).ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "technique = \"{name}\" is not a technique; allowed: {}",
+            names::allowed::<Technique>()
+        ))
+    })
+}
+
+/// A Python integer as `u64`; the range message of `field` where it does
+/// not fit (the command checks the range itself).
+fn unsigned(field: &str, n: i128, allowed: &str) -> PyResult<u64> {
+    u64::try_from(n).map_err(|_| {
+        PyValueError::new_err(format!("{field} = {n} is out of range; allowed: {allowed}"))
+    })
+}
+
+/// The once-more scattered transfer from a unit point light at `x0` to a
+/// point receiver at `x2` through an infinite homogeneous medium,
+///
+/// `I = ∫ σs p(θ) e^{−σt (d1 + d2)} [cos θ2] / (d1² d2²) dx1` over θ < θmax,
+///
+/// estimated with `samples` draws of `technique` (`omnee`, `equiangular`,
+/// `distance`, `mis` or `auto`) from the random streams of `seed`, exactly
+/// as `omnee estimate --json` does: the same arguments give the same mean and
+/// standard error. `reference=True` adds the f64 quadrature value of `I`
+/// (docs/math.md §5). Returns `Estimate(mean, stderr, reference, technique,
+/// auto_reason, samples, accepted, mean_cosine, tau, seconds)`.
+#[pyfunction]
+#[pyo3(signature = (
+    *, x0, x2, sigma_s, sigma_t, phase = None, technique = "auto", samples = 100_000, seed = 1,
+    theta_max = PI, receiver_normal = None, dtype = None, reference = true, threads = 0
+))]
+#[allow(clippy::too_many_arguments)]
+pub fn estimate<'py>(
+    py: Python<'py>,
+    x0: &Bound<'py, PyAny>,
+    x2: &Bound<'py, PyAny>,
+    sigma_s: f64,
+    sigma_t: f64,
+    phase: Option<&Bound<'py, PyAny>>,
+    technique: &str,
+    samples: i128,
+    seed: i128,
+    theta_max: f64,
+    receiver_normal: Option<&Bound<'py, PyAny>>,
+    dtype: Option<&Bound<'py, PyAny>>,
+    reference: bool,
+    threads: usize,
+) -> PyResult<Bound<'py, PyAny>> {
+    let phase = match phase {
+        Some(p) => crate::technique::phase_arg(p)?,
+        None => Phase::parse("iso")?,
+    };
+    let args = EstimateArgs {
+        problem: ProblemArgs {
+            x0: crate::array::point("x0", x0)?,
+            x2: crate::array::point("x2", x2)?,
+            phase: phase.spec.to_string(),
+            sigma_s,
+            sigma_t,
+            theta_max,
+            receiver_normal: receiver_normal
+                .map(|n| crate::array::point("receiver_normal", n))
+                .transpose()?,
+            technique: self::technique(technique)?,
+            seed: unsigned("seed", seed, "[0, 2^64)")?,
+            precision: match dtype {
+                Some(d) => precision(d)?,
+                None => Precision::F32,
+            },
+        },
+        lobe: LobeArgs::default(),
+        samples: unsigned("samples", samples, "[1, 2^40]")?,
+        reference,
+        threads,
+        json: false,
+    };
+    let e = py
+        .detach(|| run(&args, Names::Fields))
+        .map_err(error::cli)?;
+    py.import("omnee")?.getattr("Estimate")?.call1((
+        e.mean,
+        e.stderr,
+        e.reference,
+        e.choice.method.name(),
+        e.choice.reason,
+        e.samples,
+        e.accepted,
+        e.mean_cosine,
+        e.tau,
+        e.seconds,
+    ))
+}
