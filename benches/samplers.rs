@@ -26,6 +26,10 @@
 //!   renderer pays when every camera vertex connects to a new light point.
 //! - `batch/f32/omnee/<hg>`: `Omnee::sample_batch`, the structure-of-arrays
 //!   entry point, on the batch's triples (compare `sample/f32/omnee/<hg>`).
+//! - `batch/f32/omnee-one/hg0.9`, `draw/f32/mis-{lazy,six}/hg0.9`,
+//!   `pdf/f32/equiangular-at-{point,vertex}/hg0.9`: issue 12's batch of one
+//!   vertex, `OmneeMis`'s lazy draw and the density at a vertex with its
+//!   offsets (see `issue12` below).
 //! - `slab/<technique>`: one call of `omnee_cli::world::World::once_more` on
 //!   the default scene (`omnee default-scene`) for 256 floor points: a light
 //!   point, the connection, the technique's vertex, closed-form
@@ -492,10 +496,121 @@ fn batch(c: &mut Criterion<CpuTime>) {
     group.finish();
 }
 
+/// Issue 12's other measurements, f32, HG 0.9, the connection of `sample/*`:
+///
+/// - `batch/f32/omnee-one/hg0.9`: `Omnee::sample_batch` called with one
+///   vertex at a time, as a renderer that draws one vertex per connection
+///   (the CLI's once-more term) would call it; against `sample/f32/omnee`.
+/// - `draw/f32/mis-lazy/hg0.9`: `OmneeMis::draw`, the numbers from the
+///   core's SplitMix64 and taken only when used (4 + 2c per draw), against
+///   `draw/f32/mis-six/hg0.9`, six numbers drawn and `OmneeMis::sample`.
+/// - `pdf/f32/equiangular-at-{point,vertex}/hg0.9`: the companion's
+///   density at OMNEE's vertices from the point (`pdf(x1)`) and from the
+///   vertex with its offsets (`pdf_vertex`), what `OmneeMis` evaluates.
+fn issue12(c: &mut Criterion<CpuTime>) {
+    use omnee::rng::SplitMix64;
+    use omnee::sampling::{Uniforms, Vertex, Vertices, uniform};
+    let full = Connection::new(glam::Vec3::Z, glam::Vec3::ZERO, std::f32::consts::PI).unwrap();
+    let hg = HenyeyGreenstein::new(0.9f32).unwrap();
+    let omnee = Omnee::new(full, hg);
+    let us = Pool::new(uniforms::<f32>());
+
+    let mut group = c.benchmark_group("batch/f32");
+    group.throughput(Throughput::Elements(BATCH as u64));
+    group.bench_function(BenchmarkId::new("omnee-one", "hg0.9"), |b| {
+        b.iter(|| {
+            let mut acc = 0.0f32;
+            for u in us.next() {
+                let (mut x, mut y, mut z, mut pdf, mut weight) = ([0.0], [0.0], [0.0], [0.0], [0.0]);
+                let n = omnee
+                    .sample_batch(
+                        Uniforms {
+                            u0: black_box(&u[0..1]),
+                            u1: &u[1..2],
+                            u2: &u[2..3],
+                        },
+                        Vertices {
+                            x: &mut x,
+                            y: &mut y,
+                            z: &mut z,
+                            pdf: &mut pdf,
+                            weight: &mut weight,
+                        },
+                    )
+                    .unwrap();
+                acc += n as f32 + weight[0] + pdf[0] + x[0];
+            }
+            acc
+        })
+    });
+    group.finish();
+
+    let equiangular = Equiangular::new(full, hg, Directions::Sphere, Region::Everywhere);
+    let mis = OmneeMis::recommended(omnee, &equiangular);
+    let mut group = c.benchmark_group("draw/f32");
+    group.throughput(Throughput::Elements(BATCH as u64));
+    let mut rng = SplitMix64::new(7);
+    group.bench_function(BenchmarkId::new("mis-lazy", "hg0.9"), |b| {
+        b.iter(|| {
+            let mut acc = 0.0f32;
+            for _ in 0..BATCH {
+                let draw = mis.draw(|| uniform(&mut rng));
+                for s in draw.vertices.iter().flatten() {
+                    acc += s.weight + s.pdf + s.x1.x;
+                }
+            }
+            acc
+        })
+    });
+    let mut rng = SplitMix64::new(7);
+    group.bench_function(BenchmarkId::new("mis-six", "hg0.9"), |b| {
+        b.iter(|| {
+            let mut acc = 0.0f32;
+            for _ in 0..BATCH {
+                let u: [f32; 6] = core::array::from_fn(|_| uniform(&mut rng));
+                for s in mis.sample(black_box(u)).iter().flatten() {
+                    acc += s.weight + s.pdf + s.x1.x;
+                }
+            }
+            acc
+        })
+    });
+    group.finish();
+
+    let vertices: Vec<Vertex<f32>> = uniforms_n::<f32>(2 * POOL)
+        .into_iter()
+        .filter_map(|u| omnee.sample_vertex(u, &full).map(|(_, v)| v))
+        .take(POOL)
+        .collect();
+    let vertices = Pool::new(vertices);
+    let mut group = c.benchmark_group("pdf/f32");
+    group.throughput(Throughput::Elements(BATCH as u64));
+    group.bench_function(BenchmarkId::new("equiangular-at-point", "hg0.9"), |b| {
+        b.iter(|| {
+            let mut acc = 0.0f32;
+            for v in vertices.next() {
+                acc += equiangular.pdf(black_box(v.x1));
+            }
+            acc
+        })
+    });
+    group.bench_function(BenchmarkId::new("equiangular-at-vertex", "hg0.9"), |b| {
+        b.iter(|| {
+            let mut acc = 0.0f32;
+            for v in vertices.next() {
+                acc += equiangular.pdf_vertex(black_box(v));
+            }
+            acc
+        })
+    });
+    group.finish();
+}
+
 fn benches(c: &mut Criterion<CpuTime>) {
     all::<f32>(c, "f32");
     all::<f64>(c, "f64");
     batch(c);
+    issue12(c);
     slab(c);
 }
 
