@@ -521,7 +521,8 @@ fn issue12(c: &mut Criterion<CpuTime>) {
         b.iter(|| {
             let mut acc = 0.0f32;
             for u in us.next() {
-                let (mut x, mut y, mut z, mut pdf, mut weight) = ([0.0], [0.0], [0.0], [0.0], [0.0]);
+                let (mut x, mut y, mut z, mut pdf, mut weight) =
+                    ([0.0], [0.0], [0.0], [0.0], [0.0]);
                 let n = omnee
                     .sample_batch(
                         Uniforms {
