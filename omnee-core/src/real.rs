@@ -450,8 +450,8 @@ fn sin_cos_acute_f64(x: f64) -> (f64, f64) {
     )
 }
 
-/// `(sin x, cos x)` in f32 for `|x| ≤ π/2`: [`sin_cos_acute_f64`] (the
-/// polynomial [`SIN_ACUTE`] at `x` and at `π/2 − |x|`), rounded once.
+/// `(sin x, cos x)` in f32 for `|x| ≤ π/2`: `sin_cos_acute_f64` (the
+/// polynomial `SIN_ACUTE` at `x` and at `π/2 − |x|`), rounded once.
 #[inline(always)]
 pub fn sin_cos_acute_f32(x: f32) -> (f32, f32) {
     let (s, c) = sin_cos_acute_f64(x as f64);
@@ -461,7 +461,7 @@ pub fn sin_cos_acute_f32(x: f32) -> (f32, f32) {
 /// `(sin 2πt, cos 2πt)` in f32 for `|t| ≤ 1`, in f64: the nearest half turn
 /// `j/2` (`j ∈ {−2, …, 2}`), the exact remainder `r = t − j/2 ∈ [−1/4, 1/4]`,
 /// and `(sin 2πt, cos 2πt) = (−1)ʲ (sin 2πr, cos 2πr)` with
-/// [`sin_cos_acute_f64`] at `2πr ∈ [−π/2, π/2]`. Branch-free.
+/// `sin_cos_acute_f64` at `2πr ∈ [−π/2, π/2]`. Branch-free.
 #[inline(always)]
 pub fn sin_cos_turn_f32(t: f32) -> (f32, f32) {
     const TO_INT: f64 = 1.5 / f64::EPSILON; // adding it rounds to an integer
@@ -475,7 +475,7 @@ pub fn sin_cos_turn_f32(t: f32) -> (f32, f32) {
 
 /// `atan2(√a, √b)` in f32 for `a, b ≥ 0`, in f64 with one division and no
 /// branch on the data: `w = min(a, b)/max(a, b) ∈ [0, 1]`,
-/// `atan(√w) = √w Q(w)` ([`ATAN_SQRT`]; the square root runs in parallel
+/// `atan(√w) = √w Q(w)` (`ATAN_SQRT`; the square root runs in parallel
 /// with the polynomial), and `π/2 − atan(√w)` if `a > b`
 /// (`atan2(√a, √b) = π/2 − atan2(√b, √a)`). `(0, 0)` gives 0; NaN or a
 /// negative argument gives NaN.
