@@ -232,10 +232,10 @@ impl Demo {
     }
 
     /// With a lobe at `x0`, the probability with which `"lobe-mis"` draws
-    /// the lobe technique (0: OMNEE alone); `undefined` without a lobe.
+    /// the lobe technique (0: OMNEE alone); NaN without a lobe.
     #[wasm_bindgen(getter, js_name = lobeProbability)]
-    pub fn lobe_probability(&self) -> Option<f64> {
-        self.inner.lobe_probability()
+    pub fn lobe_probability(&self) -> f64 {
+        self.inner.lobe_probability().unwrap_or(f64::NAN)
     }
 
     /// Draws `n` (1 ..= 2²⁴) more samples with each technique and updates the
