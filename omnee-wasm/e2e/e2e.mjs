@@ -215,8 +215,9 @@ try {
   await page.evaluate(() => { window.omnee.state.x2 = [0.5, 0.0]; window.omnee.rebuild(); });
   const lobeState = await page.evaluate(() => ({ tilt: window.omnee.state.tilt, reference: window.omnee.state.reference,
     c: window.omnee.state.demo.lobeProbability }));
-  check(lobeState.tilt === 0.5 && lobeState.reference === table.references[5],
-    `at tilt ${lobeState.tilt} the reference is the table's ${table.references[5]} (got ${lobeState.reference})`);
+  const [hg09, hg098] = [table.references['hg:0.9'], table.references['hg:0.98']];
+  check(lobeState.tilt === 0.5 && lobeState.reference === hg09[5],
+    `at tilt ${lobeState.tilt} the reference is the table's ${hg09[5]} (got ${lobeState.reference})`);
   check(Math.abs((await num('reference')) - lobeState.reference) <= 1e-6 * lobeState.reference, 'the page shows it');
   check(lobeState.c > 0.45 && lobeState.c <= 0.5, `the recommended combination draws the lobe technique with c = ${lobeState.c}`);
   await page.waitForFunction(() => window.omnee.state.demo.estimate('lobe-mis').count >= 1e6, null, { timeout: 120000 });
@@ -234,7 +235,19 @@ try {
   check(2 * lm.se < o.se, `tilt 0.5: the combination's standard error ${lm.se.toExponential(2)} is below half OMNEE's ${o.se.toExponential(2)}`);
   await page.locator('#tilt').fill('1');
   const at1 = await page.evaluate(() => [window.omnee.state.tilt, window.omnee.state.reference, window.omnee.state.demo.estimate('omnee').count]);
-  check(at1[0] === 1 && at1[1] === table.references[10] && at1[2] < 1e6, `tilt 1: the table's reference ${table.references[10]}, estimates restarted`);
+  check(at1[0] === 1 && at1[1] === hg09[10] && at1[2] < 1e6, `tilt 1: the table's reference ${hg09[10]}, estimates restarted`);
+  // Issue 15's water lobe, g = 0.98 (the g slider), at tilt 0.5: OMNEE alone is far noisier.
+  await page.locator('#g').fill('0.98');
+  await page.locator('#tilt').fill('0.5');
+  const ref98 = await page.evaluate(() => window.omnee.state.reference);
+  check(ref98 === hg098[5], `g = 0.98, tilt 0.5: the table's reference ${hg098[5]} (got ${ref98})`);
+  await page.waitForFunction(() => window.omnee.state.demo.estimate('lobe-mis').count >= 5e5, null, { timeout: 120000 });
+  const e98 = await page.evaluate(() => ['omnee', 'lobe-mis'].map((t) => window.omnee.state.demo.estimate(t)));
+  check(Math.abs(e98[1].mean - ref98) < 5 * e98[1].stdError,
+    `g = 0.98, tilt 0.5, lobe-mis: ${e98[1].mean.toPrecision(6)} ± ${e98[1].stdError.toExponential(2)} after ${e98[1].count} samples vs ${ref98.toPrecision(7)}`);
+  check(10 * e98[1].stdError < e98[0].stdError,
+    `g = 0.98, tilt 0.5: the combination's standard error ${e98[1].stdError.toExponential(2)} is below a tenth of OMNEE's ${e98[0].stdError.toExponential(2)}`);
+  await page.locator('#g').fill('0.9');
   await page.locator('#lobe').uncheck();
   check(await shownRows() === 'omnee,equiangular,mis' && Number.isFinite(await num('reference')), 'unticking the lobe restores the plain problem');
 

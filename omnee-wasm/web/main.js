@@ -64,16 +64,17 @@ function specFromControls() {
   }
 }
 
-// The precomputed 3-D reference with a lobe at x0 (lobe-references.js) if the problem is the
-// table's and the tilt one of its steps, else NaN.
+// The precomputed 3-D reference with a lobe at x0 (lobe-references.js) if the problem is one of
+// the table's and the tilt one of its steps, else NaN.
 function lobeReference(sigmaS, sigmaA, thetaMax) {
   const t = LOBE_REFERENCES;
   const same = (a, b) => a[0] === b[0] && a[1] === b[1];
   const k = Math.round(state.tilt / t.tiltStep);
   const onStep = k / 10 === state.tilt && t.tiltStep === 0.1;
-  const match = state.spec === t.spec && same(state.x0, t.x0) && same(state.x2, t.x2)
+  const list = Object.hasOwn(t.references, state.spec) ? t.references[state.spec] : [];
+  const match = same(state.x0, t.x0) && same(state.x2, t.x2)
     && sigmaS === t.sigmaS && sigmaA === t.sigmaA && thetaMax === t.thetaMax;
-  return match && onStep && k < t.references.length ? t.references[k] : NaN;
+  return match && onStep && k < list.length ? list[k] : NaN;
 }
 
 // ---- the estimator (rebuilt whenever the problem changes) ----
