@@ -95,7 +95,8 @@ impl Technique {
 }
 
 /// Every technique, in the order of the statistics and of the generators'
-/// streams; with a lobe at `x0` the demo runs all of them.
+/// streams, which is the enum's (`technique as usize` is its slot); with a
+/// lobe at `x0` the demo runs all of them.
 pub const TECHNIQUES: [Technique; 5] = [
     Technique::Omnee,
     Technique::Equiangular,
