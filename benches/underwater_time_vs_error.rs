@@ -11,6 +11,9 @@
 //!   estimated from their difference (`relMSE(A, B)/4`) and reported;
 //! - `--budget S`: the equal CPU time for the crops figure (default 4 s);
 //! - `--skips`: also what skipping saves (a flat surface, σs = 0, one term);
+//! - `--spread K`: also each layer's variance over K renders of 4 passes
+//!   with different seeds (one thread): the relMSE and nMSE of one render
+//!   against the K renders' mean, which heavy-tailed weights (fireflies) blow up;
 //! - `--render`: also the default render of the built-in scene at its
 //!   resolution and passes on 2 threads: wall time, and the images
 //!   `omnee-cli/docs/underwater.png` and `docs/figures/underwater-<term>.png`.
@@ -176,6 +179,47 @@ fn skips(md: &mut String, w: u32, h: u32) {
     let _ = writeln!(md);
 }
 
+/// Each layer's spread: `k` renders of 4 passes with different seeds at
+/// `w × h` on one thread; per layer the relMSE and nMSE of one render
+/// against the renders' mean `M` (the variance of one render over `M²`,
+/// times `k/(k − 1)`), over the pixels where `M > 0`.
+fn spread(md: &mut String, k: usize, w: u32, h: u32) {
+    let scene = UnderwaterScene::builtin();
+    let mut storage = TableStorage::<f32>::default();
+    let phase = scene.phase.instantiate::<f32>(&mut storage).expect("phase");
+    let world = World::new(&scene, phase, w, h);
+    let mut names: Vec<&str> = Term::ALL.iter().map(|t| t.name()).collect();
+    names.push("");
+    let renders: Vec<(Rendered, f64)> = (0..k)
+        .map(|i| timed(&world, 4, 1000 + i as u64, 1))
+        .collect();
+    let cpu = renders.iter().map(|r| r.1).sum::<f64>() / k as f64;
+    let _ = writeln!(
+        md,
+        "## The spread of each layer\n\n`cargo bench --bench underwater_time_vs_error -- --spread {k}`: \
+         the built-in scene at {w}x{h}, {k} renders of 4 passes with different seeds on one thread \
+         ({cpu:.2} s CPU each); per layer the error of one render against the renders' mean, \
+         relMSE and nMSE as below, times k/(k − 1):\n\n| layer | relMSE | nMSE |\n|---|---|---|"
+    );
+    for name in names {
+        let images: Vec<Vec<f64>> = renders
+            .iter()
+            .map(|r| luminance(&r.0.layers, name))
+            .collect();
+        let n = images[0].len();
+        let mean: Vec<f64> = (0..n)
+            .map(|p| images.iter().map(|i| i[p]).sum::<f64>() / k as f64)
+            .collect();
+        let scale = k as f64 / (k - 1) as f64 / k as f64;
+        let rel = scale * images.iter().map(|i| rel_mse(i, &mean)).sum::<f64>();
+        let nm = scale * images.iter().map(|i| n_mse(i, &mean)).sum::<f64>();
+        let label = if name.is_empty() { "sum" } else { name };
+        println!("spread {label:<20} relMSE {rel:.4} nMSE {nm:.4}");
+        let _ = writeln!(md, "| {label} | {} | {} |", fmt3(rel), fmt3(nm));
+    }
+    let _ = writeln!(md);
+}
+
 fn parse_resolution(s: &str) -> (u32, u32) {
     let (w, h) = s.split_once('x').expect("--resolution WxH");
     (w.parse().expect("width"), h.parse().expect("height"))
@@ -250,6 +294,11 @@ fn main() {
 
     if flag("--skips") {
         skips(&mut md, w, h);
+    }
+
+    let k: usize = arg("--spread", 0);
+    if k >= 2 {
+        spread(&mut md, k, w, h);
     }
 
     // The comparison: caustics-once-more only.

@@ -74,6 +74,11 @@ impl Pinhole {
         }
     }
 
+    /// The vertical field of view (radians).
+    pub fn fov(&self) -> f32 {
+        2.0 * self.half_height.atan()
+    }
+
     /// `A_pix`.
     pub fn pixel_area(&self) -> f32 {
         self.pixel_area
@@ -113,6 +118,31 @@ impl Pinhole {
         let x = (sx / self.half_width + 1.0) * 0.5 * self.width as f32;
         let y = (1.0 - sy / self.half_height) * 0.5 * self.height as f32;
         Some((x, y, depth / v.length()))
+    }
+
+    /// The part `[a, b] ⊆ [t0, t1]` of the segment `o + t d` inside the view
+    /// frustum (the four half-spaces `n · (x − eye) ≥ 0` bounded by the
+    /// image's edges), or `None` when no part of it is.
+    pub fn clip(&self, o: Vec3, d: Vec3, t0: f32, t1: f32) -> Option<(f32, f32)> {
+        let v = o - self.eye;
+        let (mut a, mut b) = (t0, t1);
+        for n in [
+            self.forward * self.half_width - self.right,
+            self.forward * self.half_width + self.right,
+            self.forward * self.half_height - self.up,
+            self.forward * self.half_height + self.up,
+        ] {
+            // n · (v + t d) ≥ 0.
+            let (c0, c1) = (n.dot(v), n.dot(d));
+            if c1 > 0.0 {
+                a = a.max(-c0 / c1);
+            } else if c1 < 0.0 {
+                b = b.min(-c0 / c1);
+            } else if c0 < 0.0 {
+                return None;
+            }
+        }
+        (a < b).then_some((a, b))
     }
 
     /// The pixel the point `p` projects to and the importance `W_j` of the
@@ -202,6 +232,32 @@ mod tests {
                 }
             }
             assert!((total - 1.0).abs() < 5e-3, "pixel {pixel}: {total}");
+        }
+    }
+
+    #[test]
+    fn a_clipped_segment_is_the_part_that_projects_into_the_image() {
+        let c = camera();
+        let segments = [
+            (Vec3::new(-4.0, 1.0, -1.0), Vec3::new(1.0, 0.3, -0.4)),
+            (Vec3::new(0.5, 6.0, 0.0), Vec3::new(-0.3, -0.4, -0.9)),
+            (Vec3::new(0.0, -2.5, -3.0), Vec3::new(0.1, 1.0, 0.05)),
+            (Vec3::new(3.0, -5.0, -2.0), Vec3::new(0.0, 0.0, 1.0)),
+        ];
+        for (o, d) in segments {
+            let d = d.normalize();
+            let clipped = c.clip(o, d, 0.0, 12.0);
+            for i in 0..1200 {
+                let t = (i as f32 + 0.5) / 100.0;
+                let seen = c.project(o + d * t).is_some();
+                let inside = clipped.is_some_and(|(a, b)| a < t && t < b);
+                let near_edge =
+                    clipped.is_some_and(|(a, b)| (t - a).abs() < 0.02 || (t - b).abs() < 0.02);
+                assert!(
+                    seen == inside || near_edge,
+                    "{o} {d} t {t}: {seen} {clipped:?}"
+                );
+            }
         }
     }
 

@@ -64,7 +64,8 @@ pub struct RenderSettings {
     pub shafts: ShaftSampling,
     /// Once-more draws per floor point.
     pub once_more_samples: u32,
-    /// Shaft vertices per refracted sun ray.
+    /// Shaft vertices for a refracted sun ray whose image spans the field of
+    /// view; proportionally fewer (at least one) for shorter ones.
     pub shaft_samples: u32,
     /// Growth of the lit region around what the camera sees (m).
     pub margin: f64,
@@ -516,11 +517,11 @@ fn parse_render(root: &toml::Table) -> Result<RenderSettings> {
         )?,
         shafts,
         once_more_samples: r.integer("once_more_samples", 4, 1, 1024)? as u32,
-        shaft_samples: r.integer("shaft_samples", 4, 1, 1024)? as u32,
+        shaft_samples: r.integer("shaft_samples", 16, 1, 1024)? as u32,
         margin: r.number("margin", Some(1.0), Range::NON_NEGATIVE)?,
         max_distance: r.number("max_distance", Some(30.0), Range::POSITIVE)?,
         camera_share: r.number("camera_share", Some(0.65), Range::closed(0.0, 1.0))?,
-        eye_share: r.number("eye_share", Some(0.1), Range::closed(0.0, 1.0))?,
+        eye_share: r.number("eye_share", Some(0.2), Range::closed(0.0, 1.0))?,
         eye_radius: r.number("eye_radius", Some(2.0), Range::POSITIVE)?,
         exposure: match r.get("exposure") {
             None => None,

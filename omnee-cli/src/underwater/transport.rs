@@ -142,18 +142,27 @@ pub struct Aim {
     pub eye_radius: f32,
 }
 
-/// The cells of a 32 × 24 grid over the image through which the camera sees
-/// the floor: those with a corner ray going down. The height of a ray
-/// direction is linear on the image plane, so a cell whose four corners look
-/// up has no ray that looks down: the cells hold every floor point in view.
-/// Paths aimed through the image draw a uniform point of these cells, and
-/// none is wasted on the water above the horizon.
+/// The cells of a 32 × 24 grid over the image, extended by a margin of
+/// [`FloorCells::MARGIN`] cells on every side, through which paths aimed
+/// through the image draw their floor point: cell `k` with probability
+/// `w_k / Σ w`, then a uniform point in it.
+///
+/// A cell has weight 0 when its four corner rays look up (the height of a
+/// ray direction is linear on the image plane, so such a cell has no ray
+/// that looks down, and no path is wasted on the water above the horizon);
+/// else 1 inside the image and `1/(1 + k)²` in the margin's `k`-th ring.
+/// The margin is what keeps the light paths' weights bounded under waves:
+/// a refracted ray lands on the floor up to half a metre from the point
+/// `x_f` it was aimed at, so without it a path aimed just outside the image
+/// (by the uniform share alone, about 10³ times less dense than the
+/// image's share there) lands in it and carries 10³ times the power of its
+/// neighbours: the white speckle along the image's edges (docs/math.md §13.4).
 #[derive(Clone, Debug)]
 pub struct FloorCells {
-    /// Indices `row · COLUMNS + column` of the cells that see the floor.
-    cells: Vec<u32>,
-    /// Per cell, whether it sees the floor.
-    sees: Vec<bool>,
+    /// Per cell of the extended grid, row-major, its weight `w_k`.
+    weights: Vec<f32>,
+    /// The running sums of the weights.
+    cdf: Vec<f32>,
     width: f32,
     height: f32,
 }
@@ -161,69 +170,99 @@ pub struct FloorCells {
 impl FloorCells {
     const COLUMNS: u32 = 32;
     const ROWS: u32 = 24;
+    /// The margin's width in cells.
+    pub const MARGIN: u32 = 6;
+    const GRID_COLUMNS: u32 = Self::COLUMNS + 2 * Self::MARGIN;
+    const GRID_ROWS: u32 = Self::ROWS + 2 * Self::MARGIN;
 
-    /// The cells of `camera`'s image that see down.
+    /// The cells of `camera`'s extended image that see down.
     pub fn new(camera: &Pinhole) -> Self {
         let (w, h) = (camera.width as f32, camera.height as f32);
-        let mut sees = Vec::new();
-        let mut cells = Vec::new();
-        for row in 0..Self::ROWS {
-            for column in 0..Self::COLUMNS {
-                let corner = |i: u32, j: u32| {
-                    camera
-                        .ray(
-                            w * i as f32 / Self::COLUMNS as f32,
-                            h * j as f32 / Self::ROWS as f32,
-                        )
-                        .z
-                        < 0.0
+        let m = Self::MARGIN as i32;
+        // The image point of the grid's corner (i, j), in pixels.
+        let point = |i: i32, j: i32| {
+            (
+                w * (i - m) as f32 / Self::COLUMNS as f32,
+                h * (j - m) as f32 / Self::ROWS as f32,
+            )
+        };
+        let down = |i: i32, j: i32| {
+            let (x, y) = point(i, j);
+            camera.ray(x, y).z < 0.0
+        };
+        let ring = |k: i32, n: u32| (m - k).max(k - (n as i32 - m - 1)).max(0);
+        let mut weights = Vec::new();
+        let mut cdf = Vec::new();
+        let mut total = 0.0;
+        for row in 0..Self::GRID_ROWS as i32 {
+            for column in 0..Self::GRID_COLUMNS as i32 {
+                let sees = down(column, row)
+                    || down(column + 1, row)
+                    || down(column, row + 1)
+                    || down(column + 1, row + 1);
+                let k = ring(column, Self::GRID_COLUMNS).max(ring(row, Self::GRID_ROWS)) as f32;
+                let weight = if sees {
+                    1.0 / ((1.0 + k) * (1.0 + k))
+                } else {
+                    0.0
                 };
-                let down = corner(column, row)
-                    || corner(column + 1, row)
-                    || corner(column, row + 1)
-                    || corner(column + 1, row + 1);
-                if down {
-                    cells.push(row * Self::COLUMNS + column);
-                }
-                sees.push(down);
+                total += weight;
+                weights.push(weight);
+                cdf.push(total);
             }
         }
         Self {
-            cells,
-            sees,
+            weights,
+            cdf,
             width: w,
             height: h,
         }
     }
 
-    /// The share of the image the cells cover.
+    /// `Σ w` over the image's cell count: the image-plane density of
+    /// [`Self::sample`] at a point of a cell of weight `w_k` is
+    /// `w_k / (fraction · A_img)`.
     pub fn fraction(&self) -> f32 {
-        self.cells.len() as f32 / (Self::COLUMNS * Self::ROWS) as f32
+        self.cdf.last().copied().unwrap_or(0.0) / (Self::COLUMNS * Self::ROWS) as f32
     }
 
-    /// A uniform image point (pixels) in the cells: `u0` picks the cell and
-    /// the column inside it, `u1` the row.
+    /// An image point (pixels, possibly outside the image): `u0` picks the
+    /// cell by its weight and the column inside it, `u1` the row.
     fn sample(&self, u: [f32; 2]) -> Option<(f32, f32)> {
-        let n = self.cells.len();
-        if n == 0 {
+        let total = *self.cdf.last()?;
+        if !(total > 0.0) {
             return None;
         }
-        let scaled = u[0] * n as f32;
-        let k = (scaled as usize).min(n - 1);
-        let fx = (scaled - k as f32).clamp(0.0, 1.0);
-        let cell = self.cells[k];
-        let (column, row) = ((cell % Self::COLUMNS) as f32, (cell / Self::COLUMNS) as f32);
+        let target = u[0] * total;
+        let k = self
+            .cdf
+            .partition_point(|&c| c <= target)
+            .min(self.cdf.len() - 1);
+        let below = if k == 0 { 0.0 } else { self.cdf[k - 1] };
+        let fx = ((target - below) / self.weights[k]).clamp(0.0, 1.0);
+        let m = Self::MARGIN as f32;
+        let column = (k as u32 % Self::GRID_COLUMNS) as f32 - m;
+        let row = (k as u32 / Self::GRID_COLUMNS) as f32 - m;
         Some((
             (column + fx) / Self::COLUMNS as f32 * self.width,
             (row + u[1]) / Self::ROWS as f32 * self.height,
         ))
     }
 
-    /// Whether the image point `(x, y)` (pixels, inside the image) is in a cell.
-    fn contains(&self, x: f32, y: f32) -> bool {
-        let column = ((x / self.width * Self::COLUMNS as f32) as u32).min(Self::COLUMNS - 1);
-        let row = ((y / self.height * Self::ROWS as f32) as u32).min(Self::ROWS - 1);
-        self.sees[(row * Self::COLUMNS + column) as usize]
+    /// The weight of the cell holding the image point `(x, y)` (pixels),
+    /// 0 outside the extended grid.
+    fn weight(&self, x: f32, y: f32) -> f32 {
+        let m = Self::MARGIN as f32;
+        let column = (x / self.width * Self::COLUMNS as f32).floor() + m;
+        let row = (y / self.height * Self::ROWS as f32).floor() + m;
+        let inside = column >= 0.0
+            && row >= 0.0
+            && column < Self::GRID_COLUMNS as f32
+            && row < Self::GRID_ROWS as f32;
+        if !inside {
+            return 0.0;
+        }
+        self.weights[row as usize * Self::GRID_COLUMNS as usize + column as usize]
     }
 }
 
@@ -418,9 +457,10 @@ impl World<'_> {
 
     /// The density in floor area of the floor point `x_f` a light path aims at: on the
     /// rectangle `R`, `c q_cam(x_f) + e q_eye(x_f) + (1 − c − e)/|R|`, with
-    /// `q_cam = cos θ0 / (d² · f 4wh · cos³θ)` the density of the floor point
-    /// hit by a uniform image point of the cells that see the floor, a share
-    /// `f` of the image (`dω = cos θ0 dA/d²`, `dω = cos³θ dA_image`)
+    /// `q_cam = w_k cos θ0 / (d² · f 4wh · cos³θ)` the density of the floor
+    /// point hit by an image point drawn from the [`FloorCells`] (cell `k`
+    /// of weight `w_k`, `f = Σ w / 768`; `dω = cos θ0 dA/d²`,
+    /// `dω = cos³θ dA_image`)
     /// and `q_eye = cos θt / (2π ρ D)` for the beam through `x_f` passing the
     /// eye at the distance `D < ρ` (uniform in `D` and in angle about the eye
     /// in the plane across the beam, whose area is `cos θt` times the floor's).
@@ -434,16 +474,11 @@ impl World<'_> {
         let v = c.eye - xf;
         // The image points that see the floor cover `fraction · 4wh` of the plane.
         let cam = match c.image_point(-v) {
-            Some((x, y, cos))
-                if x >= 0.0
-                    && y >= 0.0
-                    && x < c.width as f32
-                    && y < c.height as f32
-                    && r.cells.contains(x, y) =>
-            {
+            Some((x, y, cos)) if r.cells.weight(x, y) > 0.0 => {
                 let d2 = v.length_squared();
                 let cos0 = v.z / d2.sqrt();
-                cos0 / (d2 * c.image_area() * r.cells.fraction() * cos * cos * cos)
+                r.cells.weight(x, y) * cos0
+                    / (d2 * c.image_area() * r.cells.fraction() * cos * cos * cos)
             }
             _ => 0.0,
         };
@@ -523,11 +558,7 @@ impl World<'_> {
         }
         stats.floor_hits += 1;
         if self.terms[Term::Shafts as usize] {
-            let k = self.samples[1];
-            let share = power / k as f32;
-            for _ in 0..k {
-                self.shaft(y, dt, t_floor, share, rng, out, stats);
-            }
+            self.shafts(y, dt, t_floor, power, rng, out, stats);
         }
         // Flux arriving at x0 per channel, times the floor's BRDF: the
         // radiance leaving x0 in any direction, per unit area density.
@@ -647,10 +678,17 @@ impl World<'_> {
         }
     }
 
-    /// `shafts`: a point `x = y + t ω_t` on the refracted ray (`t ∈ [0, len]`),
-    /// `Φ T(y, x) σs p(θ) T(x, eye) W(ω) / (d² pdf(t))`.
+    /// `shafts` for the refracted ray `y + t d_t`, `t ∈ [0, len]`, carrying
+    /// `power`: its part `[ta, tb]` in the view frustum (the integrand is 0
+    /// elsewhere) gets `k` vertices, stratified in the sampler's uniform
+    /// number, `k = ⌈n (θb − θa)/fov⌉ ∈ [1, 16n]` with `θb − θa` the angle
+    /// the part subtends at the eye and `n` the scene's `shaft_samples`:
+    /// about one vertex per `fov/n` of its image, so a ray passing close to
+    /// the eye, whose image crosses the picture with a weight `∝ 1/D`, is
+    /// drawn as a line of many small splats rather than a few bright dots.
+    /// `k` depends on the ray only, and the strata's mean is unbiased.
     #[allow(clippy::too_many_arguments)]
-    fn shaft(
+    fn shafts(
         &self,
         y: Vec3,
         dt: Vec3,
@@ -660,26 +698,72 @@ impl World<'_> {
         out: &mut Vec<Splat>,
         stats: &mut Stats,
     ) {
+        let Some((ta, tb)) = self.camera.clip(y, dt, 0.0, len) else {
+            return;
+        };
+        let line = EquiangularLine::new(y + dt * ta, dt, tb - ta, self.camera.eye);
+        let n = self.samples[1];
+        let k = match line {
+            Some(l) => {
+                let k = (n as f32 * l.angle() / self.camera.fov()).ceil();
+                (k as u32).clamp(1, 16 * n)
+            }
+            None => n,
+        };
+        let segment = Segment {
+            y,
+            dt,
+            ta,
+            tb,
+            line,
+        };
+        for i in 0..k {
+            let [u0, u1, _] = uniform3(rng);
+            let u0 = (i as f32 + u0) / k as f32;
+            self.shaft(&segment, [u0, u1], power / k as f32, out, stats);
+        }
+    }
+
+    /// One `shafts` vertex `x = y + t d_t` on `segment`:
+    /// `Φ T(y, x) σs p(θ) T(x, eye) W(ω) / (d² pdf(t))`, `t` drawn by the
+    /// scene's [`ShaftSampling`] on `[ta, tb]`.
+    fn shaft(
+        &self,
+        segment: &Segment,
+        u: [f32; 2],
+        power: f32,
+        out: &mut Vec<Splat>,
+        stats: &mut Stats,
+    ) {
         let eye = self.camera.eye;
-        let [u0, u1, _] = uniform3(rng);
-        let line = EquiangularLine::new(y, dt, len, eye);
-        let free = |t: f32| self.water.free_flight_pdf(len, t);
+        let Segment {
+            y,
+            dt,
+            ta,
+            tb,
+            line,
+        } = *segment;
+        let [u0, u1] = u;
+        // Free flight from `ta`: the truncated exponential on `[ta, tb]`.
+        let free = |t: f32| self.water.free_flight_pdf(tb - ta, t - ta);
+        let flight = |u: [f32; 2]| ta + self.water.free_flight(tb - ta, u);
+        let along = |l: EquiangularLine, u: f32| ta + l.sample(u);
         let (t, pdf) = match (self.shafts, line) {
             (ShaftSampling::Equiangular, Some(l)) => {
-                let t = l.sample(u0);
-                (t, l.pdf(t))
+                let t = along(l, u0);
+                (t, l.pdf(t - ta))
             }
             (ShaftSampling::Mis, Some(l)) => {
                 let t = if u0 < 0.5 {
-                    l.sample(2.0 * u0)
+                    along(l, 2.0 * u0)
                 } else {
-                    self.water.free_flight(len, [2.0 * u0 - 1.0, u1])
+                    flight([2.0 * u0 - 1.0, u1])
                 };
-                (t, 0.5 * (l.pdf(t) + free(t)))
+                (t, 0.5 * (l.pdf(t - ta) + free(t)))
             }
             // Free flight, or the eye on the ray's line (no equiangular density).
             _ => {
-                let t = self.water.free_flight(len, [u0, u1]);
+                let t = flight([u0, u1]);
                 (t, free(t))
             }
         };
@@ -699,6 +783,18 @@ impl World<'_> {
             * (power * phase * p.importance / (d2 * pdf));
         self.splat(Term::Shafts, p, value, out, stats);
     }
+}
+
+/// The part of a refracted sun ray `y + t d_t` the camera sees,
+/// `t ∈ [ta, tb]`, and the equiangular sampler about the eye on it (`t`
+/// counted from `ta`; `None` when the eye is on the ray's line).
+#[derive(Clone, Copy, Debug)]
+struct Segment {
+    y: Vec3,
+    dt: Vec3,
+    ta: f32,
+    tb: f32,
+    line: Option<EquiangularLine>,
 }
 
 /// Three uniform numbers from `rng`.
