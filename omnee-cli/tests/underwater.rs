@@ -8,6 +8,9 @@
 //! - the once-more splat from one known floor point, summed over the image
 //!   with each pixel's solid angle, equals the core's quadrature of the
 //!   point-to-point integral, for omnee, equiangular and mis;
+//! - the shafts-once-more splat from one vertex in the water, with the phase
+//!   function's lobe about the sun's direction there, equals the core's 3-D
+//!   quadrature of the lobe-to-point integral, for omnee and lobe-mis;
 //! - splatting is deterministic whatever the thread count, and crops sum to
 //!   the image.
 //!
@@ -23,7 +26,8 @@ use omnee_cli::render::budget::Budget;
 use omnee_cli::rng::Rng;
 use omnee_cli::underwater::render::{Options, render};
 use omnee_cli::underwater::scene::UnderwaterScene;
-use omnee_cli::underwater::transport::{OnceMoreTech, Splat, Stats, Term, World};
+use omnee_cli::underwater::transport::{LobeTech, OnceMoreTech, Splat, Stats, Term, World};
+use omnee_core::lobe::{LobeToPoint, PhaseLobe};
 use omnee_core::medium::Homogeneous;
 use omnee_core::phase::{Deflection, PhaseFunction};
 use omnee_core::reference::PointToPoint;
@@ -385,6 +389,99 @@ theta_max = 0.4
             };
             assert!(
                 se[c] < max_rel_se * want[c],
+                "{tech:?}: se {} of {}",
+                se[c],
+                want[c]
+            );
+        }
+    }
+}
+
+#[test]
+fn shafts_once_more_splat_from_one_vertex_equals_the_lobe_quadrature() {
+    // x0 in the water on the camera's axis, 2.7 m from the eye; the sun's
+    // light arrives there 0.5 rad off the axis x0 → eye, where the HG 0.8
+    // lobe is a fourteenth of its peak, so lobe-mis draws the lobe technique
+    // for about half its samples. θ < 0.4 keeps every x1 in the image and
+    // above the floor.
+    let text = r#"
+[sun]
+[surface]
+kind = "flat"
+[water]
+sigma_s = [0.10, 0.30, 0.20]
+sigma_a = [0.40, 0.05, 0.02]
+phase = "hg:0.8"
+[floor]
+z = -10.0
+[camera]
+position = [0.0, -3.0, -8.0]
+look_at = [0.0, 0.0, -10.0]
+fov = 60.0
+[render]
+terms = ["shafts-once-more"]
+theta_max = 0.4
+"#;
+    let scene = UnderwaterScene::parse(text).unwrap();
+    let eye = scene.camera.position;
+    let x0 = eye + (scene.camera.look_at - eye) * 0.75;
+    let axis = (eye - x0).normalize();
+    let incoming = (axis * 0.5f32.cos() + Vec3::X * 0.5f32.sin()).normalize();
+    let flux = Vec3::new(2.0, 3.0, 5.0);
+    let theta_max = 0.4;
+    let hg = omnee_core::phase::HenyeyGreenstein::new(0.8).unwrap();
+    let want: DVec3 = DVec3::from_array(std::array::from_fn(|c| {
+        let medium = Homogeneous::from_extinction(
+            scene.water.sigma_s[c] as f64,
+            scene.water.sigma_t[c] as f64,
+        )
+        .unwrap();
+        let conn = Connection::new(x0.as_dvec3(), eye.as_dvec3(), theta_max).unwrap();
+        let point = PointToPoint::new(conn, medium, None).unwrap();
+        let lobe = PhaseLobe::new(hg, incoming.as_dvec3()).unwrap();
+        flux[c] as f64 * LobeToPoint::new(point, Some(lobe)).unwrap().integral(&hg)
+    }));
+    for tech in [LobeTech::Omnee, LobeTech::LobeMis] {
+        let (w, h) = (160u32, 120u32);
+        let mut storage = TableStorage::<f32>::default();
+        let phase = scene.phase.instantiate(&mut storage).unwrap();
+        let mut world = World::new(&scene, phase, w, h);
+        world.lobe = tech;
+        let cam = world.camera;
+        let solid = |pixel: u32| {
+            let (x, y) = ((pixel % w) as f32 + 0.5, (pixel / w) as f32 + 0.5);
+            let (_, _, cos) = cam.image_point(cam.ray(x, y)).unwrap();
+            (cam.pixel_area() * cos * cos * cos) as f64
+        };
+        let n = 400_000;
+        let mut rng = Rng::stream(23, tech as u64, 0);
+        let (mut s1, mut s2) = (DVec3::ZERO, DVec3::ZERO);
+        let mut out = Vec::new();
+        let mut stats = Stats::default();
+        for _ in 0..n {
+            out.clear();
+            world.shaft_once_more(x0, incoming, flux, &mut rng, &mut out, &mut stats);
+            let v: DVec3 = out
+                .iter()
+                .map(|s| s.value.as_dvec3() * solid(s.pixel))
+                .sum();
+            s1 += v;
+            s2 += v * v;
+        }
+        let mean = s1 / n as f64;
+        let se = ((s2 / n as f64 - mean * mean) / n as f64).sqrt();
+        for c in 0..3 {
+            assert!(
+                (mean[c] - want[c]).abs() < 5.3 * se[c] + 1e-3 * want[c],
+                "{tech:?} channel {c}: splat {} ± {}, quadrature {}",
+                mean[c],
+                se[c],
+                want[c]
+            );
+            // Dropping the lobe (a factor between 0.02 and 3.6 here) or a
+            // wrong mixture density moves the mean by far more than this.
+            assert!(
+                se[c] < 0.01 * want[c],
                 "{tech:?}: se {} of {}",
                 se[c],
                 want[c]

@@ -6,11 +6,12 @@
 use super::floor::{Floor, FloorPattern};
 use super::sun::Sun;
 use super::surface::{Surface, Wave, WaveKind};
-use super::transport::{OnceMoreTech, ShaftSampling, Term};
+use super::transport::{LobeTech, OnceMoreTech, ShaftSampling, TERMS, layer};
 use super::water::Water;
 use crate::error::{CliError, Result};
 use crate::phase::PhaseSpec;
 use crate::range::Range;
+use crate::term::Term;
 use glam::{Vec2, Vec3};
 use std::collections::BTreeSet;
 
@@ -51,7 +52,7 @@ pub struct RenderSettings {
     /// Random seed.
     pub seed: u64,
     /// The terms to evaluate, in layer order.
-    pub terms: [bool; 3],
+    pub terms: [bool; 4],
     /// The once-more technique.
     pub technique: TechniqueChoice,
     /// The once-more integrand's restriction θ < θmax (radians).
@@ -62,6 +63,8 @@ pub struct RenderSettings {
     pub mis_theta_min: f64,
     /// How the shafts' vertex is placed.
     pub shafts: ShaftSampling,
+    /// The technique for `shafts-once-more`'s vertex `x1`.
+    pub shafts_once_more: LobeTech,
     /// Once-more draws per floor point.
     pub once_more_samples: u32,
     /// Shaft vertices for a refracted sun ray whose image spans the field of
@@ -480,9 +483,9 @@ fn parse_camera(root: &toml::Table, surface: &Surface, floor: &Floor) -> Result<
 
 fn parse_render(root: &toml::Table) -> Result<RenderSettings> {
     let mut r = Table::section(root, "render")?;
-    let term_names: Vec<&str> = Term::ALL.iter().map(|t| t.name()).collect();
+    let term_names: Vec<String> = TERMS.iter().map(Term::to_string).collect();
     let terms = match r.get("terms") {
-        None => [true; 3],
+        None => [true, true, true, false],
         Some(v) => parse_terms("render.terms", v, &term_names)?,
     };
     let technique = match r.choice(
@@ -497,6 +500,10 @@ fn parse_render(root: &toml::Table) -> Result<RenderSettings> {
     };
     let shafts = ShaftSampling::from_name(
         ShaftSampling::NAMES[r.choice("shafts", "mis", &ShaftSampling::NAMES)?],
+    )
+    .expect("a name from the list");
+    let shafts_once_more = LobeTech::from_name(
+        LobeTech::NAMES[r.choice("shafts_once_more", "lobe-mis", &LobeTech::NAMES)?],
     )
     .expect("a name from the list");
     let settings = RenderSettings {
@@ -516,6 +523,7 @@ fn parse_render(root: &toml::Table) -> Result<RenderSettings> {
             Range::closed(0.0, std::f64::consts::PI),
         )?,
         shafts,
+        shafts_once_more,
         once_more_samples: r.integer("once_more_samples", 4, 1, 1024)? as u32,
         shaft_samples: r.integer("shaft_samples", 16, 1, 1024)? as u32,
         margin: r.number("margin", Some(1.0), Range::NON_NEGATIVE)?,
@@ -545,24 +553,26 @@ fn parse_render(root: &toml::Table) -> Result<RenderSettings> {
 }
 
 /// A list of term names from `v`, as flags in layer order.
-pub fn parse_terms(field: &str, v: &toml::Value, names: &[&str]) -> Result<[bool; 3]> {
+pub fn parse_terms(field: &str, v: &toml::Value, names: &[String]) -> Result<[bool; 4]> {
     let allowed = format!("a non-empty list of {}", names.join(", "));
     let bad = || input(format!("{field} = {v} is out of range; allowed: {allowed}"));
     let toml::Value::Array(items) = v else {
         return Err(bad());
     };
-    let mut out = [false; 3];
+    let mut out = [false; 4];
     for item in items {
         let toml::Value::String(s) = item else {
             return Err(bad());
         };
-        let t = Term::from_name(s).ok_or_else(|| {
-            input(format!(
-                "{field} = \"{s}\" is not a term; allowed: {}",
-                names.join(", ")
-            ))
-        })?;
-        out[t as usize] = true;
+        let t = crate::names::parse::<Term>(s)
+            .filter(|t| TERMS.contains(t))
+            .ok_or_else(|| {
+                input(format!(
+                    "{field} = \"{s}\" is not a term; allowed: {}",
+                    names.join(", ")
+                ))
+            })?;
+        out[layer(t)] = true;
     }
     if items.is_empty() {
         return Err(bad());
@@ -599,6 +609,7 @@ mod tests {
                 "mis_rate",
                 "mis_theta_min",
                 "shafts",
+                "shafts_once_more",
                 "once_more_samples",
                 "shaft_samples",
                 "margin",
@@ -650,7 +661,7 @@ mod tests {
         assert_eq!(s.ior, 1.33);
         assert!(!s.surface.is_flat());
         assert_eq!(s.floor.z, -4.0);
-        assert_eq!(s.render.terms, [true; 3]);
+        assert_eq!(s.render.terms, [true, true, true, false]);
         assert_eq!(
             s.render.technique,
             TechniqueChoice::Fixed(OnceMoreTech::Mis)

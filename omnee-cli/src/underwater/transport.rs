@@ -18,39 +18,20 @@ use super::sun::Sun;
 use super::surface::Surface;
 use super::water::{EquiangularLine, Water};
 use crate::rng::Rng;
+pub use crate::term::Term;
 use glam::{Vec2, Vec3};
+use omnee_core::lobe::{LobeMis, PhaseLobe, WithLobe};
 use omnee_core::mis::OmneeMis;
 use omnee_core::phase::{Deflection, Phase, PhaseFunction};
 use omnee_core::sampling::{Connection, Omnee, Sample, Technique};
 
-/// A transport term of the underwater scene; its index is its layer.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Term {
-    /// The floor point straight to the eye.
-    Caustics = 0,
-    /// Floor point, once more scattered in the water, to the eye.
-    CausticsOnceMore = 1,
-    /// A point on the refracted sun ray straight to the eye.
-    Shafts = 2,
-}
+/// The scene's terms in the order of their layers.
+pub const TERMS: [Term; 4] = crate::term::UNDERWATER;
 
-impl Term {
-    /// Every term, in layer order.
-    pub const ALL: [Term; 3] = [Term::Caustics, Term::CausticsOnceMore, Term::Shafts];
-
-    /// The term's name on the command line and as the EXR layer.
-    pub fn name(self) -> &'static str {
-        match self {
-            Term::Caustics => "caustics",
-            Term::CausticsOnceMore => "caustics-once-more",
-            Term::Shafts => "shafts",
-        }
-    }
-
-    /// The term called `name`.
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|t| t.name() == name)
-    }
+/// The layer of `term`, one of [`TERMS`].
+#[inline]
+pub fn layer(term: Term) -> usize {
+    term.index_in(&TERMS).expect("an underwater term")
 }
 
 /// How the shafts term places its vertex on the refracted sun ray.
@@ -80,6 +61,40 @@ impl ShaftSampling {
     }
 }
 
+/// The techniques for `shafts-once-more`'s vertex `x1`: its `x0` lies on a
+/// refracted sun ray in the water, so the light leaving `x0` follows the
+/// phase function's lobe about the ray, `p0(ω_in · ω01)`, as well as `p1`
+/// at `x1` (docs/math.md §12, §13.6).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LobeTech {
+    /// OMNEE alone, the lobe's value in its weight ([`WithLobe`]).
+    Omnee,
+    /// The core's recommended combination ([`LobeMis::recommended`]):
+    /// OMNEE and the lobe technique (a direction from `p0`, then a
+    /// distance along it), one-sample balance heuristic, the lobe technique
+    /// drawn where the axis `x0 → eye` lies in the lobe's tail.
+    LobeMis,
+}
+
+impl LobeTech {
+    /// The names, in the order of the variants.
+    pub const NAMES: [&'static str; 2] = ["omnee", "lobe-mis"];
+
+    /// The technique's name.
+    pub fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+
+    /// The technique called `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "omnee" => Some(Self::Omnee),
+            "lobe-mis" => Some(Self::LobeMis),
+            _ => None,
+        }
+    }
+}
+
 /// One contribution to the image: a pixel, a term and its RGB value
 /// (radiance times the number of paths, W/(m²·sr)).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -104,8 +119,8 @@ pub struct Stats {
     pub lost_at_surface: u64,
     /// Paths that reached the floor.
     pub floor_hits: u64,
-    /// Splats per term (contributions landing in the image).
-    pub splats: [u64; 3],
+    /// Splats per term in layer order (contributions landing in the image).
+    pub splats: [u64; 4],
     /// Once-more draws whose technique gave no vertex.
     pub no_vertex: u64,
     /// Wave-band visibility tests marched (segments with an end above the troughs).
@@ -119,8 +134,8 @@ impl Stats {
         self.outside_region += o.outside_region;
         self.lost_at_surface += o.lost_at_surface;
         self.floor_hits += o.floor_hits;
-        for k in 0..3 {
-            self.splats[k] += o.splats[k];
+        for (a, b) in self.splats.iter_mut().zip(o.splats) {
+            *a += b;
         }
         self.no_vertex += o.no_vertex;
         self.surface_tests += o.surface_tests;
@@ -359,12 +374,14 @@ pub struct World<'a> {
     pub region: LightRegion,
     /// Farthest distance from the eye that the camera-ray techniques sample (m).
     pub max_distance: f32,
-    /// Which terms to evaluate.
-    pub terms: [bool; 3],
+    /// Which terms to evaluate, in layer order.
+    pub terms: [bool; 4],
     /// The once-more technique.
     pub once_more: OnceMore,
     /// The shafts' sampling.
     pub shafts: ShaftSampling,
+    /// The technique for `shafts-once-more`'s vertex `x1`.
+    pub lobe: LobeTech,
     /// Once-more draws per floor point and shaft vertices per refracted ray:
     /// `[once-more, shafts]`, each contribution divided by its count.
     pub samples: [u32; 2],
@@ -518,6 +535,12 @@ impl World<'_> {
         r.contains(xf.truncate()).then_some(xf)
     }
 
+    /// Whether `term` is evaluated.
+    #[inline]
+    pub fn enabled(&self, term: Term) -> bool {
+        self.terms[layer(term)]
+    }
+
     /// Traces one light path and appends its splats.
     pub fn trace(&self, rng: &mut Rng, out: &mut Vec<Splat>, stats: &mut Stats) {
         stats.paths += 1;
@@ -557,18 +580,21 @@ impl World<'_> {
             }
         }
         stats.floor_hits += 1;
-        if self.terms[Term::Shafts as usize] {
+        if self.enabled(Term::Shafts) {
             self.shafts(y, dt, t_floor, power, rng, out, stats);
+        }
+        if self.enabled(Term::ShaftsOnceMore) {
+            self.shafts_once_more(y, dt, t_floor, power, rng, out, stats);
         }
         // Flux arriving at x0 per channel, times the floor's BRDF: the
         // radiance leaving x0 in any direction, per unit area density.
         let radiance = self.water.transmittance(t_floor)
             * self.floor.albedo(x0.truncate())
             * (power * std::f32::consts::FRAC_1_PI);
-        if self.terms[Term::Caustics as usize] {
+        if self.enabled(Term::Caustics) {
             self.caustic(x0, radiance, out, stats);
         }
-        if self.terms[Term::CausticsOnceMore as usize] {
+        if self.enabled(Term::CausticsOnceMore) {
             let k = self.samples[0];
             let share = radiance / k as f32;
             for _ in 0..k {
@@ -588,7 +614,7 @@ impl World<'_> {
         stats: &mut Stats,
     ) {
         if value.is_finite() && value.max_element() > 0.0 {
-            stats.splats[term as usize] += 1;
+            stats.splats[layer(term)] += 1;
             out.push(Splat {
                 pixel: p.pixel as u32,
                 term,
@@ -782,6 +808,87 @@ impl World<'_> {
             * self.water.sigma_s
             * (power * phase * p.importance / (d2 * pdf));
         self.splat(Term::Shafts, p, value, out, stats);
+    }
+
+    /// `shafts-once-more` for the refracted ray `y + t d_t`, `t ∈ [0, len]`,
+    /// carrying `power`: `m` vertices `x0 = y + t d_t` (`m` the once-more
+    /// draws per floor point), `t` by free flight (the channel mixture, its
+    /// distance stratified), each scattering
+    /// `Φ T(t) σs / (m pdf(t))` towards [`Self::shaft_once_more`]. The
+    /// whole ray counts: `x1`, not `x0`, must be in view.
+    #[allow(clippy::too_many_arguments)]
+    fn shafts_once_more(
+        &self,
+        y: Vec3,
+        dt: Vec3,
+        len: f32,
+        power: f32,
+        rng: &mut Rng,
+        out: &mut Vec<Splat>,
+        stats: &mut Stats,
+    ) {
+        let m = self.samples[0];
+        for i in 0..m {
+            let [u0, u1, _] = uniform3(rng);
+            let t = self
+                .water
+                .free_flight(len, [u0, (i as f32 + u1) / m as f32]);
+            let pdf = self.water.free_flight_pdf(len, t);
+            if !(pdf > 0.0) {
+                continue;
+            }
+            let flux =
+                self.water.transmittance(t) * self.water.sigma_s * (power / (m as f32 * pdf));
+            self.shaft_once_more(y + dt * t, dt, flux, rng, out, stats);
+        }
+    }
+
+    /// `shafts-once-more` from the vertex `x0` in the water, where the sun's
+    /// light arrives along `incoming` with `flux` per channel (σs at `x0`
+    /// included): for the vertex `x1` of the scene's [`LobeTech`],
+    /// `flux σs T(d1 + d2) W(ω1) · k/pdf` with
+    /// `k = p0(ω_in · ω01) p1(θ) / (d1² d2²)` (docs/math.md §12.1, §13.6).
+    pub fn shaft_once_more(
+        &self,
+        x0: Vec3,
+        incoming: Vec3,
+        flux: Vec3,
+        rng: &mut Rng,
+        out: &mut Vec<Splat>,
+        stats: &mut Stats,
+    ) {
+        let eye = self.camera.eye;
+        let Ok(connection) = Connection::new(x0, eye, self.once_more.theta_max) else {
+            return;
+        };
+        let Ok(lobe) = PhaseLobe::new(&self.phase, incoming) else {
+            return;
+        };
+        let u = uniform3(rng);
+        let sample = match self.lobe {
+            LobeTech::Omnee => {
+                WithLobe::new(Omnee::new(connection, &self.phase), lobe, x0).sample(u)
+            }
+            LobeTech::LobeMis => LobeMis::recommended(connection, lobe, &self.phase).sample(u),
+        };
+        let Some(s) = sample else {
+            stats.no_vertex += 1;
+            return;
+        };
+        let x1 = s.x1;
+        if !(s.weight > 0.0 && self.in_water(x1)) {
+            return;
+        }
+        let Some(p) = self.camera.project(x1) else {
+            return;
+        };
+        if !self.clear(x0, x1, stats) || !self.clear(x1, eye, stats) {
+            return;
+        }
+        let d = (x1 - x0).length() + (eye - x1).length();
+        let value =
+            flux * self.water.sigma_s * self.water.transmittance(d) * (p.importance * s.weight);
+        self.splat(Term::ShaftsOnceMore, p, value, out, stats);
     }
 }
 
