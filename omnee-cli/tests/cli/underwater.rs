@@ -240,7 +240,15 @@ fn probe_rejects_the_underwater_terms_naming_the_field_and_the_allowed_ones() {
     for term in ["caustics", "caustics-once-more", "shafts", "direct,shafts"] {
         let o = run_in(
             dir.path(),
-            &["probe", "--point", "0,0,0", "--terms", term, "--samples", "10"],
+            &[
+                "probe",
+                "--point",
+                "0,0,0",
+                "--terms",
+                term,
+                "--samples",
+                "10",
+            ],
         );
         assert_eq!(o.status.code(), Some(2), "{term}");
         let e = stderr(&o);
