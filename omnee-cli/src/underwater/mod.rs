@@ -12,12 +12,11 @@
 //!
 //! Modules, one per idea: [`surface`] (the waves and ray marching),
 //! [`optics`] (refraction and Fresnel), [`sun`], [`water`] (chromatic
-//! coefficients and distance sampling), [`floor`], [`camera`] (the pixel
-//! measurement and the importance derived from it), [`transport`] (the light
-//! paths and the three terms), [`render`] (the deterministic splatting loop)
-//! and [`scene`] (the scene file).
+//! coefficients and distance sampling), [`floor`], [`transport`] (the light
+//! paths and the four terms), [`render`] (the deterministic splatting loop)
+//! and [`scene`] (the scene file); the camera, the pixel measurement and the
+//! importance derived from it are the CLI's one pinhole, [`crate::camera`].
 
-pub mod camera;
 pub mod floor;
 pub mod optics;
 pub mod render;
@@ -27,8 +26,8 @@ pub mod surface;
 pub mod transport;
 pub mod water;
 
+use crate::camera::Pinhole;
 use crate::technique;
-use camera::Pinhole;
 use omnee_core::phase::{Phase, PhaseFunction};
 use scene::{TechniqueChoice, UnderwaterScene};
 use transport::{OnceMore, OnceMoreTech, World};
@@ -85,7 +84,7 @@ impl<'a> World<'a> {
             // Only `caustics` needs no scattering.
             terms = [terms[0], false, false, false];
         }
-        let camera = Pinhole::new(c.position, c.look_at, c.up, c.fov, width, height);
+        let camera = Pinhole::looking_at(c.position, c.look_at, c.up, c.fov, width, height);
         let mut world = World {
             sun: scene.sun,
             surface: scene.surface.clone(),

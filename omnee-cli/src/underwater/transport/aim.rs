@@ -3,7 +3,7 @@
 //! density (docs/math.md §13.4).
 
 use super::World;
-use crate::underwater::camera::Pinhole;
+use crate::camera::Pinhole;
 use crate::underwater::optics::refract;
 use crate::underwater::sun::Sun;
 use glam::{Vec2, Vec3};

@@ -15,7 +15,7 @@
 //! terms share. Each light path is one sample of the sun's flux through a
 //! region of the surface; every term splats its contribution to the pixel
 //! its last vertex projects to, with the camera's importance
-//! ([`super::camera`]).
+//! ([`crate::camera`]).
 
 pub mod aim;
 pub mod caustics;
@@ -27,12 +27,12 @@ pub use caustics::{OnceMore, OnceMoreTech};
 pub use shafts::ShaftSampling;
 pub use shafts_once_more::LobeTech;
 
-use super::camera::{Pinhole, Projection};
 use super::floor::Floor;
 use super::optics::{fresnel_transmittance, refract};
 use super::sun::Sun;
 use super::surface::Surface;
 use super::water::Water;
+use crate::camera::{Pinhole, Projection};
 use crate::rng::Rng;
 pub use crate::term::Term;
 use glam::Vec3;
