@@ -11,9 +11,11 @@ use super::water::Water;
 use crate::error::{CliError, Result};
 use crate::phase::PhaseSpec;
 use crate::range::Range;
+use crate::scene::Section;
+use crate::technique::Technique;
 use crate::term::Term;
+use clap::ValueEnum;
 use glam::{Vec2, Vec3};
-use std::collections::BTreeSet;
 
 /// The built-in underwater scene, as shipped in `omnee-cli/scenes/underwater.toml`.
 pub const UNDERWATER_SCENE: &str = include_str!("../../scenes/underwater.toml");
@@ -105,169 +107,24 @@ pub struct UnderwaterScene {
     pub render: RenderSettings,
 }
 
-/// One table of the document with the keys read so far.
-struct Table<'a> {
-    name: String,
-    table: Option<&'a toml::Table>,
-    used: BTreeSet<&'static str>,
-}
-
 fn input(msg: String) -> CliError {
     CliError::Input(msg)
 }
 
-impl<'a> Table<'a> {
-    fn section(root: &'a toml::Table, name: &str) -> Result<Self> {
-        let table = match root.get(name) {
-            None => None,
-            Some(toml::Value::Table(t)) => Some(t),
-            Some(v) => {
-                return Err(input(format!(
-                    "{name} = {v} is not a table; allowed: a [{name}] section"
-                )));
-            }
-        };
-        Ok(Self {
-            name: name.to_string(),
-            table,
-            used: BTreeSet::new(),
-        })
-    }
-
-    fn field(&self, key: &str) -> String {
-        format!("{}.{key}", self.name)
-    }
-
-    fn get(&mut self, key: &'static str) -> Option<&'a toml::Value> {
-        self.used.insert(key);
-        self.table.and_then(|t| t.get(key))
-    }
-
-    fn number(&mut self, key: &'static str, default: Option<f64>, range: Range) -> Result<f64> {
-        let field = self.field(key);
-        let x = match self.get(key) {
-            None => {
-                default.ok_or_else(|| input(format!("{field} is missing; allowed: {range}")))?
-            }
-            Some(v) => as_number(v)
-                .ok_or_else(|| input(format!("{field} = {v} is not a number; allowed: {range}")))?,
-        };
-        range.check(&field, x)
-    }
-
-    fn integer(&mut self, key: &'static str, default: i64, lo: i64, hi: i64) -> Result<i64> {
-        let field = self.field(key);
-        match self.get(key) {
-            None => Ok(default),
-            Some(toml::Value::Integer(i)) if (lo..=hi).contains(i) => Ok(*i),
-            Some(v) => Err(input(format!(
-                "{field} = {v} is out of range; allowed: an integer in [{lo}, {hi}]"
-            ))),
-        }
-    }
-
-    /// Three numbers, each in `range`.
-    fn vector(
-        &mut self,
-        key: &'static str,
-        default: Option<[f64; 3]>,
-        range: Range,
-    ) -> Result<Vec3> {
-        let field = self.field(key);
-        let allowed = format!("an array of 3 numbers, each {range}");
-        match self.get(key) {
-            None => default
-                .map(|[x, y, z]| Vec3::new(x as f32, y as f32, z as f32))
-                .ok_or_else(|| input(format!("{field} is missing; allowed: {allowed}"))),
-            Some(v) => array3(v, range)
-                .ok_or_else(|| input(format!("{field} = {v} is out of range; allowed: {allowed}"))),
-        }
-    }
-
-    /// An RGB value: three numbers, or one for all channels, each in `range`.
-    fn rgb(&mut self, key: &'static str, default: Option<[f64; 3]>, range: Range) -> Result<Vec3> {
-        let field = self.field(key);
-        let allowed = format!("a number or an array of 3 numbers (R, G, B), each {range}");
-        match self.get(key) {
-            None => default
-                .map(|[x, y, z]| Vec3::new(x as f32, y as f32, z as f32))
-                .ok_or_else(|| input(format!("{field} is missing; allowed: {allowed}"))),
-            Some(v) => match as_number(v) {
-                Some(x) if range.contains(x) => Ok(Vec3::splat(x as f32)),
-                Some(_) => Err(input(format!(
-                    "{field} = {v} is out of range; allowed: {allowed}"
-                ))),
-                None => array3(v, range).ok_or_else(|| {
-                    input(format!("{field} = {v} is out of range; allowed: {allowed}"))
-                }),
-            },
-        }
-    }
-
-    fn string(&mut self, key: &'static str, default: &str, allowed: &str) -> Result<String> {
-        let field = self.field(key);
-        match self.get(key) {
-            None => Ok(default.to_string()),
-            Some(toml::Value::String(s)) => Ok(s.clone()),
-            Some(v) => Err(input(format!(
-                "{field} = {v} is not a string; allowed: {allowed}"
-            ))),
-        }
-    }
-
-    /// One of `names` (the allowed values, in order), as its index.
-    fn choice(&mut self, key: &'static str, default: &str, names: &[&str]) -> Result<usize> {
-        let allowed = names.join(", ");
-        let s = self.string(key, default, &allowed)?;
-        names.iter().position(|n| *n == s).ok_or_else(|| {
-            input(format!(
-                "{} = \"{s}\" is not one of the names; allowed: {allowed}",
-                self.field(key)
-            ))
-        })
-    }
-
-    /// Fails on the first key that was never read.
-    fn finish(self) -> Result<()> {
-        if let Some(t) = self.table {
-            for (k, v) in t {
-                if !self.used.contains(k.as_str()) {
-                    return Err(input(format!(
-                        "{}.{k} = {v} is not a known field; allowed: {}",
-                        self.name,
-                        self.used.iter().copied().collect::<Vec<_>>().join(", ")
-                    )));
-                }
-            }
-        }
-        Ok(())
-    }
+/// `[x, y, z]` in f32.
+fn vec3([x, y, z]: [f64; 3]) -> Vec3 {
+    Vec3::new(x as f32, y as f32, z as f32)
 }
 
-fn as_number(v: &toml::Value) -> Option<f64> {
-    match v {
-        toml::Value::Float(x) => Some(*x),
-        toml::Value::Integer(i) => Some(*i as f64),
-        _ => None,
-    }
-}
-
-fn array3(v: &toml::Value, range: Range) -> Option<Vec3> {
-    let toml::Value::Array(items) = v else {
-        return None;
-    };
-    if items.len() != 3 {
-        return None;
-    }
-    let mut out = [0.0f32; 3];
-    for (slot, item) in out.iter_mut().zip(items) {
-        let x = as_number(item)?;
-        if !range.contains(x) {
-            return None;
-        }
-        *slot = x as f32;
-    }
-    Some(Vec3::from_array(out))
+/// The surface's kind (`surface.kind`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum SurfaceKind {
+    /// No waves.
+    Flat,
+    /// A height field sum of sines.
+    Sine,
+    /// Trochoidal waves.
+    Gerstner,
 }
 
 const UNIT: Range = Range::closed(0.0, 1.0);
@@ -317,8 +174,8 @@ impl UnderwaterScene {
 }
 
 fn parse_sun(root: &toml::Table) -> Result<Sun> {
-    let mut s = Table::section(root, "sun")?;
-    let direction = s.vector("direction", Some([0.0, 0.0, 1.0]), Range::FINITE)?;
+    let mut s = Section::required(root, "sun")?;
+    let direction = vec3(s.vector("direction", Some([0.0, 0.0, 1.0]), Range::FINITE)?);
     if !(direction.z > 0.0) {
         return Err(input(format!(
             "sun.direction = {:?} is out of range; allowed: a vector with z > 0 (the sun above the horizon)",
@@ -345,10 +202,10 @@ fn splitmix(state: &mut u64) -> u64 {
 }
 
 fn parse_surface(root: &toml::Table) -> Result<(Surface, f32)> {
-    let mut s = Table::section(root, "surface")?;
+    let mut s = Section::required(root, "surface")?;
     let z = s.number("z", Some(0.0), Range::FINITE)? as f32;
     let ior = s.number("ior", Some(1.33), Range::closed(1.0, 3.0))? as f32;
-    let kind = s.choice("kind", "flat", &["flat", "sine", "gerstner"])?;
+    let kind = s.choice("kind", SurfaceKind::Flat, "surface kind")?;
     let mut state = s.integer("seed", 1, 0, i64::MAX)? as u64;
     let waves_value = s.get("waves");
     s.finish()?;
@@ -361,7 +218,7 @@ fn parse_surface(root: &toml::Table) -> Result<(Surface, f32)> {
             )));
         }
     };
-    if kind == 0 {
+    if kind == SurfaceKind::Flat {
         if !items.is_empty() {
             return Err(input(
                 "surface.waves: kind = \"flat\" has no waves; allowed: kind = \"sine\" or \"gerstner\" with waves, or no [[surface.waves]]".into(),
@@ -376,9 +233,7 @@ fn parse_surface(root: &toml::Table) -> Result<(Surface, f32)> {
                 "surface.waves[{i}] = {item} is not a table; allowed: a [[surface.waves]] section"
             )));
         };
-        let mut root_i = toml::Table::new();
-        root_i.insert(format!("surface.waves[{i}]"), toml::Value::Table(t.clone()));
-        let mut w = Table::section(&root_i, &format!("surface.waves[{i}]"))?;
+        let mut w = Section::of(t, format!("surface.waves[{i}]"));
         let amplitude = w.number("amplitude", None, Range::NON_NEGATIVE)?;
         let wavelength = w.number("wavelength", None, Range::POSITIVE)?;
         let direction = w
@@ -396,7 +251,7 @@ fn parse_surface(root: &toml::Table) -> Result<(Surface, f32)> {
             phase: phase as f32,
         });
     }
-    let kind = if kind == 1 {
+    let kind = if kind == SurfaceKind::Sine {
         WaveKind::Sine
     } else {
         WaveKind::Gerstner
@@ -411,9 +266,9 @@ fn parse_surface(root: &toml::Table) -> Result<(Surface, f32)> {
 }
 
 fn parse_water(root: &toml::Table) -> Result<(Water, PhaseSpec)> {
-    let mut w = Table::section(root, "water")?;
-    let sigma_s = w.rgb("sigma_s", None, Range::NON_NEGATIVE)?;
-    let sigma_a = w.rgb("sigma_a", Some([0.0; 3]), Range::NON_NEGATIVE)?;
+    let mut w = Section::required(root, "water")?;
+    let sigma_s = vec3(w.rgb("sigma_s", None, Range::NON_NEGATIVE)?);
+    let sigma_a = vec3(w.rgb("sigma_a", Some([0.0; 3]), Range::NON_NEGATIVE)?);
     let phase_text = w.string("phase", "iso", "a phase spec such as iso or ff:0.0183,1.1")?;
     let phase = PhaseSpec::parse(&phase_text).map_err(|e| e.context("water.phase"))?;
     w.finish()?;
@@ -421,27 +276,24 @@ fn parse_water(root: &toml::Table) -> Result<(Water, PhaseSpec)> {
 }
 
 fn parse_floor(root: &toml::Table, surface: &Surface) -> Result<Floor> {
-    let mut f = Table::section(root, "floor")?;
+    let mut f = Section::required(root, "floor")?;
     let trough = surface.trough() as f64;
     let z = f.number("z", Some(-4.0), Range::open(f64::NEG_INFINITY, trough))? as f32;
-    let pattern = match f.choice("pattern", "sand", &["sand", "checker"])? {
-        0 => FloorPattern::Sand,
-        _ => FloorPattern::Checker,
-    };
+    let pattern = f.choice("pattern", FloorPattern::Sand, "floor pattern")?;
     let floor = Floor {
         z,
         pattern,
         size: f.number("size", Some(0.5), Range::POSITIVE)? as f32,
-        albedo_a: f.rgb("albedo_a", Some([0.75, 0.68, 0.5]), UNIT)?,
-        albedo_b: f.rgb("albedo_b", Some([0.55, 0.48, 0.34]), UNIT)?,
+        albedo_a: vec3(f.rgb("albedo_a", Some([0.75, 0.68, 0.5]), UNIT)?),
+        albedo_b: vec3(f.rgb("albedo_b", Some([0.55, 0.48, 0.34]), UNIT)?),
     };
     f.finish()?;
     Ok(floor)
 }
 
 fn parse_camera(root: &toml::Table, surface: &Surface, floor: &Floor) -> Result<CameraSpec> {
-    let mut c = Table::section(root, "camera")?;
-    let position = c.vector("position", None, Range::FINITE)?;
+    let mut c = Section::required(root, "camera")?;
+    let position = vec3(c.vector("position", None, Range::FINITE)?);
     let (lo, hi) = (floor.z as f64, surface.trough() as f64);
     if !(position.z as f64 > lo && (position.z as f64) < hi) {
         return Err(CliError::range(
@@ -452,8 +304,8 @@ fn parse_camera(root: &toml::Table, surface: &Surface, floor: &Floor) -> Result<
             ),
         ));
     }
-    let look_at = c.vector("look_at", Some([0.0, 0.0, floor.z as f64]), Range::FINITE)?;
-    let up = c.vector("up", Some([0.0, 0.0, 1.0]), Range::FINITE)?;
+    let look_at = vec3(c.vector("look_at", Some([0.0, 0.0, floor.z as f64]), Range::FINITE)?);
+    let up = vec3(c.vector("up", Some([0.0, 0.0, 1.0]), Range::FINITE)?);
     let fov = c.number("fov", Some(60.0), Range::open(0.0, 180.0))?;
     let width = c.integer("width", 480, 1, 16384)? as u32;
     let height = c.integer("height", 360, 1, 16384)? as u32;
@@ -482,30 +334,28 @@ fn parse_camera(root: &toml::Table, surface: &Surface, floor: &Floor) -> Result<
 }
 
 fn parse_render(root: &toml::Table) -> Result<RenderSettings> {
-    let mut r = Table::section(root, "render")?;
+    let mut r = Section::required(root, "render")?;
     let term_names: Vec<String> = TERMS.iter().map(Term::to_string).collect();
     let terms = match r.get("terms") {
         None => [true, true, true, false],
         Some(v) => parse_terms("render.terms", v, &term_names)?,
     };
-    let technique = match r.choice(
-        "technique",
-        "auto",
-        &["omnee", "equiangular", "mis", "auto"],
-    )? {
-        0 => TechniqueChoice::Fixed(OnceMoreTech::Omnee),
-        1 => TechniqueChoice::Fixed(OnceMoreTech::Equiangular),
-        2 => TechniqueChoice::Fixed(OnceMoreTech::Mis),
-        _ => TechniqueChoice::Auto,
+    // Every technique of the CLI but distance.
+    let allowed = "omnee, equiangular, mis, auto";
+    let name = r.string("technique", "auto", allowed)?;
+    let technique = match crate::names::parse::<Technique>(&name) {
+        Some(Technique::Omnee) => TechniqueChoice::Fixed(OnceMoreTech::Omnee),
+        Some(Technique::Equiangular) => TechniqueChoice::Fixed(OnceMoreTech::Equiangular),
+        Some(Technique::Mis) => TechniqueChoice::Fixed(OnceMoreTech::Mis),
+        Some(Technique::Auto) => TechniqueChoice::Auto,
+        Some(Technique::Distance) | None => {
+            return Err(input(format!(
+                "render.technique = \"{name}\" is not a technique of the underwater scene; allowed: {allowed}"
+            )));
+        }
     };
-    let shafts = ShaftSampling::from_name(
-        ShaftSampling::NAMES[r.choice("shafts", "mis", &ShaftSampling::NAMES)?],
-    )
-    .expect("a name from the list");
-    let shafts_once_more = LobeTech::from_name(
-        LobeTech::NAMES[r.choice("shafts_once_more", "lobe-mis", &LobeTech::NAMES)?],
-    )
-    .expect("a name from the list");
+    let shafts = r.choice("shafts", ShaftSampling::Mis, "shaft sampling")?;
+    let shafts_once_more = r.choice("shafts_once_more", LobeTech::LobeMis, "technique")?;
     let settings = RenderSettings {
         spp: r.integer("spp", 16, 1, 1 << 24)? as u32,
         seed: r.integer("seed", 1, 0, i64::MAX)? as u64,

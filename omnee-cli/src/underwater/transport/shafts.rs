@@ -4,11 +4,13 @@
 use super::{Splat, Stats, Term, World, uniform3};
 use crate::rng::Rng;
 use crate::underwater::water::EquiangularLine;
+use clap::ValueEnum;
 use glam::Vec3;
 use omnee_core::phase::{Deflection, PhaseFunction};
 
-/// How the shafts term places its vertex on the refracted sun ray.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// How the shafts term places its vertex on the refracted sun ray
+/// (`render.shafts`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum ShaftSampling {
     /// Free-flight distance from the channel mixture of σt.
     FreeFlight,
@@ -17,21 +19,6 @@ pub enum ShaftSampling {
     /// One of the two with probability ½ each, weighted by the mixture
     /// density (one-sample MIS with the balance heuristic).
     Mis,
-}
-
-impl ShaftSampling {
-    /// The names, in the order of the variants.
-    pub const NAMES: [&'static str; 3] = ["free-flight", "equiangular", "mis"];
-
-    /// The sampling called `name`.
-    pub fn from_name(name: &str) -> Option<Self> {
-        match name {
-            "free-flight" => Some(Self::FreeFlight),
-            "equiangular" => Some(Self::Equiangular),
-            "mis" => Some(Self::Mis),
-            _ => None,
-        }
-    }
 }
 
 impl World<'_> {

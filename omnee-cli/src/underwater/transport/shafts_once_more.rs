@@ -4,6 +4,7 @@
 
 use super::{Splat, Stats, Term, World, uniform3};
 use crate::rng::Rng;
+use clap::ValueEnum;
 use glam::Vec3;
 use omnee_core::lobe::{LobeMis, PhaseLobe, WithLobe};
 use omnee_core::sampling::{Connection, Omnee, Technique};
@@ -12,7 +13,7 @@ use omnee_core::sampling::{Connection, Omnee, Technique};
 /// refracted sun ray in the water, so the light leaving `x0` follows the
 /// phase function's lobe about the ray, `p0(ω_in · ω01)`, as well as `p1`
 /// at `x1` (docs/math.md §12, §13.6).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum LobeTech {
     /// OMNEE alone, the lobe's value in its weight ([`WithLobe`]).
     Omnee,
@@ -23,24 +24,7 @@ pub enum LobeTech {
     LobeMis,
 }
 
-impl LobeTech {
-    /// The names, in the order of the variants.
-    pub const NAMES: [&'static str; 2] = ["omnee", "lobe-mis"];
-
-    /// The technique's name.
-    pub fn name(self) -> &'static str {
-        Self::NAMES[self as usize]
-    }
-
-    /// The technique called `name`.
-    pub fn from_name(name: &str) -> Option<Self> {
-        match name {
-            "omnee" => Some(Self::Omnee),
-            "lobe-mis" => Some(Self::LobeMis),
-            _ => None,
-        }
-    }
-}
+crate::names::display_by_name!(LobeTech);
 
 impl World<'_> {
     /// `shafts-once-more` for the refracted ray `y + t d_t`, `t ∈ [0, len]`,
