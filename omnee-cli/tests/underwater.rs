@@ -294,6 +294,42 @@ fn shafts_splat_equals_single_scattering_of_the_refracted_beam() {
     }
 }
 
+/// Mean and standard error over 400 000 draws of `draw`'s splats summed over
+/// the image, each times its pixel's solid angle `A_pix cos³θ_j`: one
+/// draw's estimate of the integral over the image (the importance is
+/// `W_j = 1/(A_pix cos³θ)`).
+fn over_the_image(
+    world: &World<'_>,
+    seed: u64,
+    stream: u64,
+    mut draw: impl FnMut(&mut Rng, &mut Vec<Splat>, &mut Stats),
+) -> (DVec3, DVec3) {
+    let cam = world.camera;
+    let w = cam.width;
+    let solid = |pixel: u32| {
+        let (x, y) = ((pixel % w) as f32 + 0.5, (pixel / w) as f32 + 0.5);
+        let (_, _, cos) = cam.image_point(cam.ray(x, y)).unwrap();
+        (cam.pixel_area() * cos * cos * cos) as f64
+    };
+    let n = 400_000;
+    let mut rng = Rng::stream(seed, stream, 0);
+    let (mut s1, mut s2) = (DVec3::ZERO, DVec3::ZERO);
+    let mut out = Vec::new();
+    let mut stats = Stats::default();
+    for _ in 0..n {
+        out.clear();
+        draw(&mut rng, &mut out, &mut stats);
+        let v: DVec3 = out
+            .iter()
+            .map(|s| s.value.as_dvec3() * solid(s.pixel))
+            .sum();
+        s1 += v;
+        s2 += v * v;
+    }
+    let mean = s1 / n as f64;
+    (mean, ((s2 / n as f64 - mean * mean) / n as f64).sqrt())
+}
+
 #[test]
 fn once_more_splat_from_one_floor_point_equals_the_quadrature() {
     // x0 on the floor 10 m down, the eye 3.6 m away looking at it; θ < 0.4
@@ -344,32 +380,9 @@ theta_max = 0.4
         let phase = scene.phase.instantiate(&mut storage).unwrap();
         let mut world = World::new(&scene, phase, w, h);
         world.once_more.tech = tech;
-        let cam = world.camera;
-        // Σ_j value_j · A_pix cos³θ_j per draw: each draw's estimate of the
-        // integral over the image (the importance W_j = 1/(A_pix cos³θ)).
-        let solid = |pixel: u32| {
-            let (x, y) = ((pixel % w) as f32 + 0.5, (pixel / w) as f32 + 0.5);
-            let d = cam.ray(x, y);
-            let (_, _, cos) = cam.image_point(d).unwrap();
-            (cam.pixel_area() * cos * cos * cos) as f64
-        };
-        let n = 400_000;
-        let mut rng = Rng::stream(21, tech as u64, 0);
-        let (mut s1, mut s2) = (DVec3::ZERO, DVec3::ZERO);
-        let mut out = Vec::new();
-        let mut stats = Stats::default();
-        for _ in 0..n {
-            out.clear();
-            world.caustic_once_more(x0, radiance, &mut rng, &mut out, &mut stats);
-            let v: DVec3 = out
-                .iter()
-                .map(|s| s.value.as_dvec3() * solid(s.pixel))
-                .sum();
-            s1 += v;
-            s2 += v * v;
-        }
-        let mean = s1 / n as f64;
-        let se = ((s2 / n as f64 - mean * mean) / n as f64).sqrt();
+        let (mean, se) = over_the_image(&world, 21, tech as u64, |rng, out, stats| {
+            world.caustic_once_more(x0, radiance, rng, out, stats)
+        });
         for c in 0..3 {
             // Pixel-centre cosines: a relative error of order (pixel angle)² ≈ 2e-5.
             assert!(
@@ -447,29 +460,9 @@ theta_max = 0.4
         let phase = scene.phase.instantiate(&mut storage).unwrap();
         let mut world = World::new(&scene, phase, w, h);
         world.lobe = tech;
-        let cam = world.camera;
-        let solid = |pixel: u32| {
-            let (x, y) = ((pixel % w) as f32 + 0.5, (pixel / w) as f32 + 0.5);
-            let (_, _, cos) = cam.image_point(cam.ray(x, y)).unwrap();
-            (cam.pixel_area() * cos * cos * cos) as f64
-        };
-        let n = 400_000;
-        let mut rng = Rng::stream(23, tech as u64, 0);
-        let (mut s1, mut s2) = (DVec3::ZERO, DVec3::ZERO);
-        let mut out = Vec::new();
-        let mut stats = Stats::default();
-        for _ in 0..n {
-            out.clear();
-            world.shaft_once_more(x0, incoming, flux, &mut rng, &mut out, &mut stats);
-            let v: DVec3 = out
-                .iter()
-                .map(|s| s.value.as_dvec3() * solid(s.pixel))
-                .sum();
-            s1 += v;
-            s2 += v * v;
-        }
-        let mean = s1 / n as f64;
-        let se = ((s2 / n as f64 - mean * mean) / n as f64).sqrt();
+        let (mean, se) = over_the_image(&world, 23, tech as u64, |rng, out, stats| {
+            world.shaft_once_more(x0, incoming, flux, rng, out, stats)
+        });
         for c in 0..3 {
             assert!(
                 (mean[c] - want[c]).abs() < 5.3 * se[c] + 1e-3 * want[c],

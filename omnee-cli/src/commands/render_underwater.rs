@@ -150,12 +150,7 @@ pub fn run(a: RenderArgs, mut scene: UnderwaterScene) -> Result<()> {
             st.outside_region,
             st.lost_at_surface,
             st.floor_hits,
-            TERMS
-                .iter()
-                .zip(st.splats)
-                .map(|(t, n)| format!("{t} {n}"))
-                .collect::<Vec<_>>()
-                .join(", "),
+            st.splats_by_term(),
             st.no_vertex,
             st.surface_tests
         ));

@@ -91,24 +91,7 @@ impl World<'_> {
             stats.no_vertex += 1;
         }
         for s in vertices.into_iter().flatten() {
-            let x1 = s.x1;
-            if !(s.weight > 0.0 && self.in_water(x1)) {
-                continue;
-            }
-            let Some(p) = self.camera.project(x1) else {
-                continue;
-            };
-            let (a, b) = (x1 - x0, eye - x1);
-            let (d1, d2) = (a.length(), b.length());
-            let cos0 = a.z / d1;
-            if !(cos0 > 0.0) || !self.clear(x0, x1, stats) || !self.clear(x1, eye, stats) {
-                continue;
-            }
-            let value = radiance
-                * self.water.sigma_s
-                * self.water.transmittance(d1 + d2)
-                * (cos0 * p.importance * s.weight);
-            self.splat(Term::CausticsOnceMore, p, value, out, stats);
+            self.splat_once_more(Term::CausticsOnceMore, x0, s, radiance, true, out, stats);
         }
     }
 

@@ -37,6 +37,7 @@ use crate::rng::Rng;
 pub use crate::term::Term;
 use glam::Vec3;
 use omnee_core::phase::Phase;
+use omnee_core::sampling::Sample;
 
 /// The scene's terms in the order of their layers.
 pub const TERMS: [Term; 4] = crate::term::UNDERWATER;
@@ -80,6 +81,16 @@ pub struct Stats {
 }
 
 impl Stats {
+    /// The splat counts by term, `"caustics 12, …"`.
+    pub fn splats_by_term(&self) -> String {
+        TERMS
+            .iter()
+            .zip(self.splats)
+            .map(|(t, n)| format!("{t} {n}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
     /// Adds another run's counters.
     pub fn add(&mut self, o: &Stats) {
         self.paths += o.paths;
@@ -224,6 +235,42 @@ impl World<'_> {
                 self.caustic_once_more(x0, share, rng, out, stats);
             }
         }
+    }
+
+    /// Splats the once-more vertex `s` of the connection `x0 → x1 → eye`
+    /// for `term`: `value σs T(d1 + d2) cos θ0 W(ω1) · k/pdf`, with `k/pdf`
+    /// the technique's weight and `cos θ0` the floor's cosine towards `x1`
+    /// when `x0` is on the `floor` (else 1); nothing where `x1` is outside
+    /// the water or the image, behind the floor, or a leg leaves the water.
+    #[allow(clippy::too_many_arguments)]
+    fn splat_once_more(
+        &self,
+        term: Term,
+        x0: Vec3,
+        s: Sample<f32>,
+        value: Vec3,
+        floor: bool,
+        out: &mut Vec<Splat>,
+        stats: &mut Stats,
+    ) {
+        let (x1, eye) = (s.x1, self.camera.eye);
+        if !(s.weight > 0.0 && self.in_water(x1)) {
+            return;
+        }
+        let Some(p) = self.camera.project(x1) else {
+            return;
+        };
+        let (a, b) = (x1 - x0, eye - x1);
+        let (d1, d2) = (a.length(), b.length());
+        let cos0 = if floor { a.z / d1 } else { 1.0 };
+        if !(cos0 > 0.0) || !self.clear(x0, x1, stats) || !self.clear(x1, eye, stats) {
+            return;
+        }
+        let value = value
+            * self.water.sigma_s
+            * self.water.transmittance(d1 + d2)
+            * (cos0 * p.importance * s.weight);
+        self.splat(term, p, value, out, stats);
     }
 
     /// Pushes a splat of `value` for `term` through `projection`.

@@ -92,19 +92,6 @@ impl World<'_> {
             stats.no_vertex += 1;
             return;
         };
-        let x1 = s.x1;
-        if !(s.weight > 0.0 && self.in_water(x1)) {
-            return;
-        }
-        let Some(p) = self.camera.project(x1) else {
-            return;
-        };
-        if !self.clear(x0, x1, stats) || !self.clear(x1, eye, stats) {
-            return;
-        }
-        let d = (x1 - x0).length() + (eye - x1).length();
-        let value =
-            flux * self.water.sigma_s * self.water.transmittance(d) * (p.importance * s.weight);
-        self.splat(Term::ShaftsOnceMore, p, value, out, stats);
+        self.splat_once_more(Term::ShaftsOnceMore, x0, s, flux, false, out, stats);
     }
 }
