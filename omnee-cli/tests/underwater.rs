@@ -294,6 +294,33 @@ fn shafts_splat_equals_single_scattering_of_the_refracted_beam() {
     }
 }
 
+/// Flat water over a floor 10 m down, HG 0.8, the eye 3.6 m from the
+/// floor point it looks at, the once-more integrand restricted to θ < 0.4;
+/// only `term` rendered.
+fn deep_scene(term: &str) -> UnderwaterScene {
+    UnderwaterScene::parse(&format!(
+        r#"
+[sun]
+[surface]
+kind = "flat"
+[water]
+sigma_s = [0.10, 0.30, 0.20]
+sigma_a = [0.40, 0.05, 0.02]
+phase = "hg:0.8"
+[floor]
+z = -10.0
+[camera]
+position = [0.0, -3.0, -8.0]
+look_at = [0.0, 0.0, -10.0]
+fov = 60.0
+[render]
+terms = ["{term}"]
+theta_max = 0.4
+"#
+    ))
+    .unwrap()
+}
+
 /// Mean and standard error over 400 000 draws of `draw`'s splats summed over
 /// the image, each times its pixel's solid angle `A_pix cos³θ_j`: one
 /// draw's estimate of the integral over the image (the importance is
@@ -334,25 +361,7 @@ fn over_the_image(
 fn once_more_splat_from_one_floor_point_equals_the_quadrature() {
     // x0 on the floor 10 m down, the eye 3.6 m away looking at it; θ < 0.4
     // keeps every x1 within the image and under the surface.
-    let text = r#"
-[sun]
-[surface]
-kind = "flat"
-[water]
-sigma_s = [0.10, 0.30, 0.20]
-sigma_a = [0.40, 0.05, 0.02]
-phase = "hg:0.8"
-[floor]
-z = -10.0
-[camera]
-position = [0.0, -3.0, -8.0]
-look_at = [0.0, 0.0, -10.0]
-fov = 60.0
-[render]
-terms = ["caustics-once-more"]
-theta_max = 0.4
-"#;
-    let scene = UnderwaterScene::parse(text).unwrap();
+    let scene = deep_scene("caustics-once-more");
     let x0 = Vec3::new(0.0, 0.0, -10.0);
     let radiance = Vec3::new(2.0, 3.0, 5.0);
     let theta_max = 0.4;
@@ -417,25 +426,7 @@ fn shafts_once_more_splat_from_one_vertex_equals_the_lobe_quadrature() {
     // lobe is a fourteenth of its peak, so lobe-mis draws the lobe technique
     // for about half its samples. θ < 0.4 keeps every x1 in the image and
     // above the floor.
-    let text = r#"
-[sun]
-[surface]
-kind = "flat"
-[water]
-sigma_s = [0.10, 0.30, 0.20]
-sigma_a = [0.40, 0.05, 0.02]
-phase = "hg:0.8"
-[floor]
-z = -10.0
-[camera]
-position = [0.0, -3.0, -8.0]
-look_at = [0.0, 0.0, -10.0]
-fov = 60.0
-[render]
-terms = ["shafts-once-more"]
-theta_max = 0.4
-"#;
-    let scene = UnderwaterScene::parse(text).unwrap();
+    let scene = deep_scene("shafts-once-more");
     let eye = scene.camera.position;
     let x0 = eye + (scene.camera.look_at - eye) * 0.75;
     let axis = (eye - x0).normalize();
