@@ -1,7 +1,9 @@
 // End-to-end test of the omnee-wasm demo page: serves omnee-wasm/web on 127.0.0.1,
 // drives /usr/bin/chromium with playwright-core, moves the θ slider, drags x2, reads the
 // numbers the page shows and checks them, checks the optimised module against the native
-// fixture, measures the sampling throughput and saves a screenshot to e2e/out/demo.png.
+// fixture, measures the sampling throughput, tilts the light at x0 with the tilt slider and
+// checks the estimates against the precomputed 3-D reference, and saves a screenshot to
+// e2e/out/demo.png.
 // Exits non-zero on the first failed check.
 import { spawn } from 'node:child_process';
 import { mkdirSync, readFileSync } from 'node:fs';
@@ -28,8 +30,9 @@ const rustValue = (src, name) => {
 };
 const cases = readFileSync(join(common, 'mod.rs'), 'utf8');
 const fixture = readFileSync(join(common, 'fixture.rs'), 'utf8');
-const CASE_NAMES = ['A_SPEC', 'A_X0', 'A_X2', 'A_MEDIUM', 'B_SPEC', 'B_X0', 'B_X2', 'B_MEDIUM', 'SEED', 'RUN', 'CLOUD', 'HIST', 'WATER'];
-const FIXTURE_NAMES = ['A_REFERENCE', 'A_ESTIMATES', 'B_REFERENCE', 'B_ESTIMATES', 'CLOUD_OMNEE',
+const CASE_NAMES = ['A_SPEC', 'A_X0', 'A_X2', 'A_MEDIUM', 'B_SPEC', 'B_X0', 'B_X2', 'B_MEDIUM',
+  'C_SPEC', 'C_X0', 'C_X2', 'C_MEDIUM', 'C_TILT', 'SEED', 'RUN', 'CLOUD', 'HIST', 'WATER'];
+const FIXTURE_NAMES = ['A_REFERENCE', 'A_ESTIMATES', 'B_REFERENCE', 'B_ESTIMATES', 'C_ESTIMATES', 'C_PROBABILITY', 'CLOUD_OMNEE',
   'CLOUD_EQUIANGULAR', 'CLOUD_MIS', 'HISTOGRAM', 'WATERLEVEL', 'QUANTILE'];
 
 let passed = 0;
@@ -76,24 +79,29 @@ try {
   const c = Object.fromEntries(CASE_NAMES.map((n) => [n, rustValue(cases, n)]));
   const got = await page.evaluate(async (c) => {
     const m = await import('./pkg/omnee_wasm.js');
-    const demo = (spec, x0, x2, k) => new m.Demo(spec, x0[0], x0[1], x2[0], x2[1], k[0], k[1], k[2], c.SEED);
-    // The fixture's order of techniques (demo::METHODS in the Rust sources).
+    const demo = (spec, x0, x2, k, tilt) => new m.Demo(spec, x0[0], x0[1], x2[0], x2[1], k[0], k[1], k[2], c.SEED, tilt);
+    // The fixture's order of techniques (demo::TECHNIQUES in the Rust sources; without a lobe
+    // at x0 the first three).
     const names = ['omnee', 'equiangular', 'mis'];
-    const estimates = (d) => names.flatMap((t) => { const e = d.estimate(t); return [e.count, e.mean, e.stdError]; });
+    const estimates = (d, ts) => ts.flatMap((t) => { const e = d.estimate(t); return [e.count, e.mean, e.stdError]; });
     const a = demo(c.A_SPEC, c.A_X0, c.A_X2, c.A_MEDIUM);
     const b = demo(c.B_SPEC, c.B_X0, c.B_X2, c.B_MEDIUM);
+    const tilted = demo(c.C_SPEC, c.C_X0, c.C_X2, c.C_MEDIUM, c.C_TILT);
     a.run(c.RUN);
     b.run(c.RUN);
+    tilted.run(c.RUN);
     const [spec, n, bins, hi] = c.HIST;
     const [x0, x2, theta, xi] = c.WATER;
     const w = m.waterlevel(x0[0], x0[1], x2[0], x2[1], theta, xi);
-    const values = [[a.reference], estimates(a), [b.reference], estimates(b),
+    const values = [[a.reference], estimates(a, names), [b.reference], estimates(b, names),
+      estimates(tilted, [...names, 'lobe', 'lobe-mis']), [tilted.lobeProbability],
       ...names.map((t) => Array.from(a.cloud(t, c.CLOUD, 9))),
       Array.from(m.histogram(spec, n, bins, hi, 11)),
       ['x1x', 'x1y', 'theta', 'alpha', 'beta', 'xi', 't', 's', 'd1', 'd2', 'radius', 'cx', 'cy'].map((k) => w[k]),
       [m.quantile(c.B_SPEC, 0.9)]];
     a.free();
     b.free();
+    tilted.free();
     return values;
   }, c);
   const wanted = FIXTURE_NAMES.map((name) => rustValue(fixture, name));
@@ -112,19 +120,22 @@ try {
   // with an Error that lists them.
   const names = await page.evaluate(async () => {
     const m = await import('./pkg/omnee_wasm.js');
-    const d = new m.Demo('iso', 0, 0, 1, 0, 0.1, 0.1, Math.PI, 1);
+    const d = new m.Demo('iso', 0, 0, 1, 0, 0.1, 0.1, Math.PI, 1, 0.3);
     const refused = (name) => { try { d.estimate(name); return ''; } catch (e) { return e.message; } };
     const result = { page: window.omnee.techniques, accepted: window.omnee.techniques.map(refused),
       distance: refused('distance'), index: refused(0) };
     d.free();
     return result;
   });
-  check(names.page.join() === 'omnee,equiangular,mis' && names.accepted.every((e) => e === ''),
+  check(names.page.join() === 'omnee,equiangular,mis,lobe,lobe-mis' && names.accepted.every((e) => e === ''),
     `the page's techniques ${names.page.join(', ')} are the module's`);
-  const allowed = 'syntax error in technique: unknown name; allowed: omnee, equiangular, mis';
+  const allowed = 'syntax error in technique: unknown name; allowed: omnee, equiangular, mis, lobe, lobe-mis';
   check(names.distance === allowed && names.index === allowed, `other names are refused: "${names.distance}"`);
   const cloudMenu = await page.evaluate(() => [...document.querySelectorAll('#cloud option')].map((o) => o.value).join());
-  check(cloudMenu === 'omnee,equiangular,mis,', `the cloud menu lists the techniques and none (${cloudMenu})`);
+  check(cloudMenu === 'omnee,equiangular,mis,lobe,lobe-mis,', `the cloud menu lists the techniques and none (${cloudMenu})`);
+  const shownRows = async () => page.evaluate(() => [...document.querySelectorAll('tr[data-technique]')]
+    .filter((r) => !r.hidden).map((r) => r.dataset.technique).join());
+  check(await shownRows() === 'omnee,equiangular,mis', 'without a lobe at x0 the lobe rows are hidden');
 
   // The waterlevel: t is the talk's formula of θ and ξ.
   const talk = (theta, xi) => Math.cos(theta - xi * theta) * Math.sin(xi * theta) / Math.sin(theta);
@@ -165,7 +176,8 @@ try {
   await page.waitForFunction(() => window.omnee.state.demo.estimate('omnee').count >= 2e6, null, { timeout: 60000 });
   const est = await page.evaluate(() => {
     const d = window.omnee.state.demo;
-    const e = Object.fromEntries(window.omnee.techniques.map((t) => {
+    // Without a lobe at x0: the first three techniques.
+    const e = Object.fromEntries(['omnee', 'equiangular', 'mis'].map((t) => {
       const e = d.estimate(t);
       return [t, { n: e.count, mean: e.mean, se: e.stdError, rel: e.relativeError }];
     }));
@@ -191,6 +203,53 @@ try {
   const rate = Math.max(...rates);
   check(rate >= MIN_RATE, `throughput ${Math.round(rate).toLocaleString('en-US')} samples/s ≥ ${MIN_RATE.toLocaleString('en-US')}`);
   await page.locator('#pause').click();
+
+  // The lobe at x0: the tilt slider turns it on and tilts the incoming direction. Away from the
+  // table's problem (x2 was dragged) there is no reference; back at the default problem the
+  // precomputed 3-D quadrature is shown and the estimates agree with it.
+  const table = await page.evaluate(async () => (await import('./lobe-references.js')).LOBE_REFERENCES);
+  await page.locator('#tilt').fill('0.5');
+  check(await page.locator('#lobe').isChecked(), 'moving the tilt slider turns the lobe at x0 on');
+  check(await shownRows() === 'omnee,equiangular,mis,lobe,lobe-mis', 'with a lobe at x0 all five techniques run');
+  check((await page.locator('#reference').textContent()) === '–', 'no reference away from the precomputed problem');
+  await page.evaluate(() => { window.omnee.state.x2 = [0.5, 0.0]; window.omnee.rebuild(); });
+  const lobeState = await page.evaluate(() => ({ tilt: window.omnee.state.tilt, reference: window.omnee.state.reference,
+    c: window.omnee.state.demo.lobeProbability }));
+  const [hg09, hg098] = [table.references['hg:0.9'], table.references['hg:0.98']];
+  check(lobeState.tilt === 0.5 && lobeState.reference === hg09[5],
+    `at tilt ${lobeState.tilt} the reference is the table's ${hg09[5]} (got ${lobeState.reference})`);
+  check(Math.abs((await num('reference')) - lobeState.reference) <= 1e-6 * lobeState.reference, 'the page shows it');
+  check(lobeState.c > 0.45 && lobeState.c <= 0.5, `the recommended combination draws the lobe technique with c = ${lobeState.c}`);
+  await page.waitForFunction(() => window.omnee.state.demo.estimate('lobe-mis').count >= 1e6, null, { timeout: 120000 });
+  const tiltedEst = await page.evaluate(() => Object.fromEntries(window.omnee.techniques.map((t) => {
+    const e = window.omnee.state.demo.estimate(t);
+    return [t, { n: e.count, mean: e.mean, se: e.stdError }];
+  })));
+  for (const t of ['omnee', 'mis', 'lobe-mis']) {
+    const { n, mean, se } = tiltedEst[t];
+    const rel = Math.abs(mean - lobeState.reference) / lobeState.reference;
+    check(Math.abs(mean - lobeState.reference) < 5 * se && rel < 0.02,
+      `tilt 0.5, ${t}: ${mean.toPrecision(6)} ± ${se.toExponential(2)} after ${n} samples vs ${lobeState.reference.toPrecision(7)}`);
+  }
+  const [o, lm] = [tiltedEst.omnee, tiltedEst['lobe-mis']];
+  check(2 * lm.se < o.se, `tilt 0.5: the combination's standard error ${lm.se.toExponential(2)} is below half OMNEE's ${o.se.toExponential(2)}`);
+  await page.locator('#tilt').fill('1');
+  const at1 = await page.evaluate(() => [window.omnee.state.tilt, window.omnee.state.reference, window.omnee.state.demo.estimate('omnee').count]);
+  check(at1[0] === 1 && at1[1] === hg09[10] && at1[2] < 1e6, `tilt 1: the table's reference ${hg09[10]}, estimates restarted`);
+  // Issue 15's water lobe, g = 0.98 (the g slider), at tilt 0.5: OMNEE alone is far noisier.
+  await page.locator('#g').fill('0.98');
+  await page.locator('#tilt').fill('0.5');
+  const ref98 = await page.evaluate(() => window.omnee.state.reference);
+  check(ref98 === hg098[5], `g = 0.98, tilt 0.5: the table's reference ${hg098[5]} (got ${ref98})`);
+  await page.waitForFunction(() => window.omnee.state.demo.estimate('lobe-mis').count >= 5e5, null, { timeout: 120000 });
+  const e98 = await page.evaluate(() => ['omnee', 'lobe-mis'].map((t) => window.omnee.state.demo.estimate(t)));
+  check(Math.abs(e98[1].mean - ref98) < 5 * e98[1].stdError,
+    `g = 0.98, tilt 0.5, lobe-mis: ${e98[1].mean.toPrecision(6)} ± ${e98[1].stdError.toExponential(2)} after ${e98[1].count} samples vs ${ref98.toPrecision(7)}`);
+  check(10 * e98[1].stdError < e98[0].stdError,
+    `g = 0.98, tilt 0.5: the combination's standard error ${e98[1].stdError.toExponential(2)} is below a tenth of OMNEE's ${e98[0].stdError.toExponential(2)}`);
+  await page.locator('#g').fill('0.9');
+  await page.locator('#lobe').uncheck();
+  check(await shownRows() === 'omnee,equiangular,mis' && Number.isFinite(await num('reference')), 'unticking the lobe restores the plain problem');
 
   check(problems.length === 0, `no console errors${problems.length ? `: ${problems.join(' | ')}` : ''}`);
   mkdirSync(out, { recursive: true });

@@ -131,43 +131,53 @@ pub use technique::Technique;
 /// `from_js_value`, which only this module excuses from `missing_docs`.
 #[allow(missing_docs)]
 mod technique {
-    use omnee_core::method::Method;
+    use crate::demo;
     use wasm_bindgen::prelude::*;
 
-    /// A technique the demo compares, by the core's name ([`Method::name`]):
-    /// in JavaScript the strings `"omnee"`, `"equiangular"` and `"mis"`
-    /// (TypeScript: `type Technique = "omnee" | "equiangular" | "mis"`). Any
-    /// other string is refused with an `Error` that lists these.
+    /// A technique the demo runs, by name ([`demo::Technique::name`]): in
+    /// JavaScript the strings `"omnee"`, `"equiangular"`, `"mis"`, `"lobe"`
+    /// and `"lobe-mis"` (TypeScript: `type Technique = "omnee" |
+    /// "equiangular" | "mis" | "lobe" | "lobe-mis"`; the last two with a
+    /// lobe at `x0` only). Any other string is refused with an `Error` that
+    /// lists these.
     #[wasm_bindgen]
     #[derive(Clone, Copy, Debug, PartialEq, Eq)]
     pub enum Technique {
-        /// [`Method::Omnee`].
+        /// [`demo::Technique::Omnee`].
         Omnee = "omnee",
-        /// [`Method::Equiangular`].
+        /// [`demo::Technique::Equiangular`].
         Equiangular = "equiangular",
-        /// [`Method::Mis`].
+        /// [`demo::Technique::Mis`].
         Mis = "mis",
+        /// [`demo::Technique::Lobe`].
+        Lobe = "lobe",
+        /// [`demo::Technique::LobeMis`].
+        LobeMis = "lobe-mis",
     }
 
     impl Technique {
-        /// The core's method of this name (an unknown string from JavaScript
-        /// is an error listing the allowed names).
-        pub fn method(self) -> Result<Method, omnee_core::Error> {
+        /// The demo's technique of this name (an unknown string from
+        /// JavaScript is an error listing the allowed names).
+        pub fn technique(self) -> Result<demo::Technique, omnee_core::Error> {
             match self {
-                Technique::Omnee => Ok(Method::Omnee),
-                Technique::Equiangular => Ok(Method::Equiangular),
-                Technique::Mis => Ok(Method::Mis),
+                Technique::Omnee => Ok(demo::Technique::Omnee),
+                Technique::Equiangular => Ok(demo::Technique::Equiangular),
+                Technique::Mis => Ok(demo::Technique::Mis),
+                Technique::Lobe => Ok(demo::Technique::Lobe),
+                Technique::LobeMis => Ok(demo::Technique::LobeMis),
                 _ => Err(omnee_core::Error::Syntax {
                     field: "technique",
-                    reason: "unknown name; allowed: omnee, equiangular, mis",
+                    reason: "unknown name; allowed: omnee, equiangular, mis, lobe, lobe-mis",
                 }),
             }
         }
     }
 }
 
-/// The point-to-point integral in the demo plane and its running estimates by
-/// OMNEE, equiangular sampling and MIS of both ([`Technique`]).
+/// The point-to-point integral in the demo plane, optionally with a lobe at
+/// `x0`, and its running estimates by OMNEE, equiangular sampling and MIS of
+/// both, and with a lobe also by the lobe technique and the recommended
+/// combination of it with OMNEE ([`Technique`]).
 #[wasm_bindgen]
 pub struct Demo {
     inner: Problem,
@@ -179,7 +189,11 @@ impl Demo {
     /// `"hg:0.9"`) between the unit point light `x0 = (x0x, x0y)` and the
     /// point receiver `x2 = (x2x, x2y)` in an infinite medium with
     /// coefficients `sigmaS`, `sigmaA`, restricted to θ < `thetaMax` ∈ (0, π].
-    /// Computes the quadrature reference. Throws on invalid input.
+    /// With `tilt` (radians in [0, π]; `undefined`: no lobe) a lobe at
+    /// `x0`: the same phase function for light arriving along the axis
+    /// `x0 → x2` turned by `tilt` in the plane. Computes the quadrature
+    /// reference without a lobe (with one, see `reference`). Throws on
+    /// invalid input.
     #[wasm_bindgen(constructor)]
     #[allow(clippy::too_many_arguments)]
     pub fn new(
@@ -192,6 +206,7 @@ impl Demo {
         #[wasm_bindgen(js_name = sigmaA)] sigma_a: f64,
         #[wasm_bindgen(js_name = thetaMax)] theta_max: f64,
         seed: u32,
+        tilt: Option<f64>,
     ) -> Result<Demo, JsValue> {
         Problem::new(
             phase,
@@ -200,16 +215,27 @@ impl Demo {
             sigma_s,
             sigma_a,
             theta_max,
+            tilt,
             seed,
         )
         .map(|inner| Demo { inner })
         .map_err(js)
     }
 
-    /// The quadrature reference value of the integral.
+    /// The quadrature reference value of the integral; NaN with a lobe at
+    /// `x0`, whose three-dimensional quadrature takes seconds natively and
+    /// is not in the module (the page reads it from
+    /// `lobe-references.js`, computed natively, where it has one).
     #[wasm_bindgen(getter)]
     pub fn reference(&self) -> f64 {
         self.inner.reference()
+    }
+
+    /// With a lobe at `x0`, the probability with which `"lobe-mis"` draws
+    /// the lobe technique (0: OMNEE alone); NaN without a lobe.
+    #[wasm_bindgen(getter, js_name = lobeProbability)]
+    pub fn lobe_probability(&self) -> f64 {
+        self.inner.lobe_probability().unwrap_or(f64::NAN)
     }
 
     /// Draws `n` (1 ..= 2²⁴) more samples with each technique and updates the
@@ -219,13 +245,14 @@ impl Demo {
     }
 
     /// The running estimate of `technique` (`"omnee"`, `"equiangular"`,
-    /// `"mis"`), an `Estimate` object (`count`, `mean`, `stdError`,
-    /// `relativeError`).
+    /// `"mis"`, and with a lobe at `x0` `"lobe"`, `"lobe-mis"`), an
+    /// `Estimate` object (`count`, `mean`, `stdError`, `relativeError`; the
+    /// last NaN with a lobe, whose reference the module does not compute).
     #[wasm_bindgen(unchecked_return_type = "Estimate")]
     pub fn estimate(&self, technique: Technique) -> Result<JsValue, JsValue> {
         let stats = technique
-            .method()
-            .and_then(|m| self.inner.stats(m))
+            .technique()
+            .and_then(|t| self.inner.stats(t))
             .map_err(js)?;
         Ok(estimate(
             stats.count() as f64,
@@ -239,8 +266,8 @@ impl Demo {
     /// rotated into the plane about the axis: `[x, y, estimate, …]`.
     #[wasm_bindgen(unchecked_return_type = "Float32Array")]
     pub fn cloud(&self, technique: Technique, n: u32, seed: u32) -> Result<JsValue, JsValue> {
-        let method = technique.method().map_err(js)?;
-        Ok(f32s(&self.inner.cloud(method, n, seed).map_err(js)?))
+        let technique = technique.technique().map_err(js)?;
+        Ok(f32s(&self.inner.cloud(technique, n, seed).map_err(js)?))
     }
 
     /// Forgets the estimates and restarts the generators from the seed.

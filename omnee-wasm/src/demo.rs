@@ -6,26 +6,28 @@
 //! rotated about the axis `x0 x2` into the plane (the half-plane on the side
 //! they came from), which keeps `d1`, `d2` and θ: an OMNEE sample of angle θ
 //! lands exactly on the drawn arc of that θ.
+//!
+//! Everything runs in f64, sampling too (from PCG32's 24-bit uniforms,
+//! widened): one copy of each phase function and technique in the module.
+//! Sampling in f32 (a renderer's precision, as the demo did before the lobe
+//! at `x0`) next to the f64 references made the module 70,537 B with the
+//! lobe, over the 64 KiB limit; in f64 it is 65,373 B (README.md).
 
 use crate::phase::{Analytic, Spec};
 use crate::rng::Pcg32;
 use alloc::vec;
 use alloc::vec::Vec;
 use omnee_core::Error;
-use omnee_core::circumcircle::{Angles, circumradius, fractional_distance, side_lengths};
+use omnee_core::circumcircle::{Angles, Axis, circumradius, fractional_distance, side_lengths};
+use omnee_core::lobe::{LobeMis, LobeToPoint, PhaseLobe};
 use omnee_core::medium::{Homogeneous, Region};
-use omnee_core::method::Method;
 use omnee_core::mis::OmneeMis;
 use omnee_core::phase::{Deflection, PhaseFunction};
 use omnee_core::real::{Real, Vector};
 use omnee_core::reference::PointToPoint;
-use omnee_core::sampling::{Connection, Directions, Draw, Equiangular, Omnee, Sample, Technique};
+use omnee_core::sampling::{self, Connection, Directions, Draw, Equiangular, Omnee, Sample};
 
-/// The precision of sampling: f32, a renderer's (references are f64). It was
-/// 1.7× faster in the browser than f64 sampling; f64 makes the module smaller
-/// (one copy of each routine; README.md has the measured options).
-pub type S = f32;
-type Vec3 = <S as Real>::Vec3;
+type Vec3 = <f64 as Real>::Vec3;
 
 /// Most samples one call may draw (keeps a call under a second or so).
 pub const MAX_RUN: u32 = 1 << 24;
@@ -44,31 +46,67 @@ pub const MAX_BINS: u32 = 4096;
 /// `∝ δ²/(σt s)` with it: below the Monte Carlo error bars the demo shows.
 pub const REFERENCE_THETA_MAX: f64 = core::f64::consts::PI - 1e-4;
 
-/// The techniques the demo compares, in the order of its statistics and of
-/// its generators' streams: the core's [`Method`]s but distance sampling
-/// (whose weight grows like 1/d1² near the demo's point light: infinite
-/// variance, nothing to watch converge).
+/// An estimator the demo runs, by the name the page uses ([`name`](Self::name)).
 ///
-/// - [`Method::Omnee`]: OMNEE over the whole restriction θ < θmax;
-/// - [`Method::Equiangular`]: equiangular sampling along uniformly
-///   distributed rays from `x2`;
-/// - [`Method::Mis`]: the core's recommended MIS (the CLI's `mis`): OMNEE's
-///   vertex over θ < θmax, and with probability 0.05 an equiangular vertex
-///   behind the cone θ ≥ 3π/4 (balance heuristic there, OMNEE alone in front
-///   of it).
-pub const METHODS: [Method; 3] = [Method::Omnee, Method::Equiangular, Method::Mis];
-
-/// The position of `method` in [`METHODS`]; an error naming the allowed
-/// ones for distance sampling.
-pub fn slot(method: Method) -> Result<usize, Error> {
-    METHODS
-        .iter()
-        .position(|&m| m == method)
-        .ok_or(Error::Syntax {
-            field: "technique",
-            reason: "not in the demo; allowed: omnee, equiangular, mis",
-        })
+/// Without a lobe at `x0` the demo compares the core's methods but distance
+/// sampling (whose weight grows like 1/d1² near the demo's point light:
+/// infinite variance, nothing to watch converge): [`PLAIN`]. With a lobe at
+/// `x0` (docs/math.md §12) it runs those three with the lobe's value
+/// `p0(ω01)` multiplied into their weights (what `omnee_core::lobe::WithLobe`
+/// does), and the two techniques that sample the lobe: [`TECHNIQUES`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Technique {
+    /// OMNEE over the whole restriction θ < θmax (`Method::Omnee`).
+    Omnee,
+    /// Equiangular sampling along uniformly distributed rays from `x2`
+    /// (`Method::Equiangular`).
+    Equiangular,
+    /// The core's recommended MIS of OMNEE and equiangular sampling
+    /// (`Method::Mis`, `OmneeMis::recommended`, the CLI's `mis`): OMNEE's
+    /// vertex over θ < θmax, and with probability 0.05 an equiangular vertex
+    /// behind the cone θ ≥ 3π/4 (balance heuristic there, OMNEE alone in
+    /// front of it).
+    Mis,
+    /// The lobe technique (`lobe::LobeRay`), with a lobe at `x0` only: the
+    /// direction at `x0` from the lobe, then the deflection at `x1` from the
+    /// phase function restricted to `[α, θmax)`, which fixes the distance.
+    Lobe,
+    /// The recommended combination with a lobe at `x0`
+    /// (`LobeMis::recommended`, the CLI's `mis` with `--x0-phase`), with a
+    /// lobe only: one-sample balance-heuristic MIS that draws the lobe
+    /// technique with probability `c = (1 − ρ)/2` where the lobe's value
+    /// along the axis is `ρ < 0.1` of its peak, else OMNEE alone.
+    LobeMis,
 }
+
+impl Technique {
+    /// The name the page uses: `omnee`, `equiangular`, `mis` (the core's
+    /// method names), `lobe` and `lobe-mis` (the CLI's JSON name of the
+    /// combination).
+    pub const fn name(self) -> &'static str {
+        match self {
+            Technique::Omnee => "omnee",
+            Technique::Equiangular => "equiangular",
+            Technique::Mis => "mis",
+            Technique::Lobe => "lobe",
+            Technique::LobeMis => "lobe-mis",
+        }
+    }
+}
+
+/// Every technique, in the order of the statistics and of the generators'
+/// streams, which is the enum's (`technique as usize` is its slot); with a
+/// lobe at `x0` the demo runs all of them.
+pub const TECHNIQUES: [Technique; 5] = [
+    Technique::Omnee,
+    Technique::Equiangular,
+    Technique::Mis,
+    Technique::Lobe,
+    Technique::LobeMis,
+];
+
+/// The techniques without a lobe at `x0`: the first three of [`TECHNIQUES`].
+pub const PLAIN: [Technique; 3] = [Technique::Omnee, Technique::Equiangular, Technique::Mis];
 
 /// Mean and variance of a stream of estimates (Welford's update).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -122,26 +160,48 @@ fn check_count(field: &'static str, n: u32, max: u32, allowed: &'static str) -> 
 }
 
 fn plane_point(p: [f64; 2]) -> Vec3 {
-    Vec3::new(S::from_f64(p[0]), S::from_f64(p[1]), 0.0)
+    Vec3::new(p[0], p[1], 0.0)
 }
 
+/// The phase function's lobe at `x0`.
+type Lobe = PhaseLobe<f64, Analytic<f64>>;
+
+/// The recommended combination with a lobe at `x0`, which also holds its two
+/// techniques: OMNEE with the lobe in its weight and the lobe technique.
+type Lobed = LobeMis<f64, Lobe, Analytic<f64>>;
+
 /// The point-to-point problem of `omnee_core::reference` in the demo plane,
-/// with running estimates of its integral by the [`METHODS`].
+/// optionally with a lobe at `x0` (`omnee_core::lobe`), with running
+/// estimates of its integral by the [`PLAIN`] techniques, or with the lobe by
+/// all [`TECHNIQUES`].
 #[derive(Clone, Debug)]
 pub struct Problem {
-    phase: Analytic<S>,
-    problem: PointToPoint<S>,
+    phase: Analytic<f64>,
+    problem: PointToPoint<f64>,
+    lobe: Option<Lobed>,
     reference: f64,
     seed: u32,
-    rngs: [Pcg32; 3],
-    stats: [Running; 3],
+    rngs: [Pcg32; 5],
+    stats: [Running; 5],
 }
 
 impl Problem {
     /// The problem for the phase function `spec` between the plane points
     /// `x0` (unit point light) and `x2` (point receiver) in an infinite
-    /// medium (`sigma_s`, `sigma_a`), restricted to θ < `theta_max`; the
-    /// quadrature reference is computed here. `seed` seeds the estimators.
+    /// medium (`sigma_s`, `sigma_a`), restricted to θ < `theta_max`. `seed`
+    /// seeds the estimators.
+    ///
+    /// With `tilt` (radians, in `[0, π]`) a lobe at `x0`: the same phase
+    /// function, for light arriving at `x0` along the axis `x0 → x2` turned
+    /// by `tilt` in the plane (counter-clockwise; 0: the light continues
+    /// towards `x2`, π: it arrives from `x2`), as in the table of issue 15
+    /// (g0 = g1). Without a lobe the 2-D quadrature reference is computed
+    /// here (milliseconds); with one the reference is the 3-D quadrature
+    /// `LobeToPoint::integral` (seconds natively), which the module does not
+    /// link: [`reference`](Self::reference) is NaN and the page takes it
+    /// from `web/lobe-references.js` (generated natively by the native
+    /// tests).
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         spec: &str,
         x0: [f64; 2],
@@ -149,78 +209,158 @@ impl Problem {
         sigma_s: f64,
         sigma_a: f64,
         theta_max: f64,
+        tilt: Option<f64>,
         seed: u32,
     ) -> Result<Self, Error> {
-        let (phase, phase64) = phases(spec)?;
-        let (a, b) = (plane_point(x0), plane_point(x2));
-        let connection = Connection::<S>::new(a, b, S::from_f64(theta_max))?;
-        let medium = Homogeneous::<S>::new(S::from_f64(sigma_s), S::from_f64(sigma_a))?;
-        let problem = PointToPoint::new(connection, medium, None)?;
-        // The reference describes exactly the problem sampled: `integral`
-        // widens the f32 problem's s, σs, σt and θmax and integrates in f64
-        // (no f64 copy of the problem is built). θmax is capped at
-        // REFERENCE_THETA_MAX rounded to f32, which is below π (the f32 π is
-        // above it).
-        let mut capped = problem;
-        capped.connection.theta_max = connection.theta_max.min(S::from_f64(REFERENCE_THETA_MAX));
-        let reference = capped.integral(&phase64);
+        let phase = phase(spec)?;
+        let connection = Connection::new(plane_point(x0), plane_point(x2), theta_max)?;
+        let problem = PointToPoint::new(connection, Homogeneous::new(sigma_s, sigma_a)?, None)?;
+        let (lobe, reference) = match tilt {
+            None => (None, Self::plain_reference(&problem, &phase)),
+            Some(tilt) => {
+                let lobe = Lobe::new(phase, incoming(&connection, tilt)?)?;
+                let lobed = LobeMis::recommended(connection, lobe, phase);
+                (Some(lobed), f64::NAN)
+            }
+        };
         Ok(Self {
             phase,
             problem,
+            lobe,
             reference,
             seed,
             rngs: Self::fresh_rngs(seed),
-            stats: [Running::default(); 3],
+            stats: [Running::default(); 5],
         })
     }
 
-    /// One generator stream per method, `1 + slot`.
-    fn fresh_rngs(seed: u32) -> [Pcg32; 3] {
+    /// `PointToPoint::integral` with θmax capped at [`REFERENCE_THETA_MAX`].
+    fn plain_reference(problem: &PointToPoint<f64>, phase: &Analytic<f64>) -> f64 {
+        let mut capped = *problem;
+        capped.connection.theta_max = capped.connection.theta_max.min(REFERENCE_THETA_MAX);
+        capped.integral(phase)
+    }
+
+    /// One generator stream per technique, `1 + slot`.
+    fn fresh_rngs(seed: u32) -> [Pcg32; 5] {
         core::array::from_fn(|i| Pcg32::new(u64::from(seed), 1 + i as u64))
     }
 
-    /// The quadrature reference value of the integral (f64).
+    /// The techniques estimating this problem: all [`TECHNIQUES`] with a
+    /// lobe at `x0`, else [`PLAIN`].
+    pub fn techniques(&self) -> &'static [Technique] {
+        if self.lobe.is_some() {
+            &TECHNIQUES
+        } else {
+            &PLAIN
+        }
+    }
+
+    /// The position of `technique` in [`TECHNIQUES`] if this problem
+    /// estimates it; for `lobe` and `lobe-mis` without a lobe an error.
+    pub fn slot(&self, technique: Technique) -> Result<usize, Error> {
+        let slot = technique as usize;
+        if slot < self.techniques().len() {
+            Ok(slot)
+        } else {
+            Err(Error::Syntax {
+                field: "technique",
+                reason: "lobe and lobe-mis need a lobe at x0 (a tilt)",
+            })
+        }
+    }
+
+    /// The quadrature reference value of the integral without a lobe at
+    /// `x0` (f64); NaN with one (see [`new`](Self::new)).
     pub fn reference(&self) -> f64 {
         self.reference
     }
 
-    /// The running statistics of `method` (one of [`METHODS`]).
-    pub fn stats(&self, method: Method) -> Result<Running, Error> {
-        Ok(self.stats[slot(method)?])
+    /// With a lobe at `x0`, the reference value of the integral by the 3-D
+    /// quadrature `LobeToPoint::integral` (docs/math.md §12; θmax capped at
+    /// [`REFERENCE_THETA_MAX`]); `None` without a lobe. Seconds natively:
+    /// the bindings do not call it, so the module does not link it (6.4 KiB,
+    /// measured); the native tests write it into `web/lobe-references.js`
+    /// for the page.
+    pub fn lobe_reference(&self) -> Option<f64> {
+        let lobed = self.lobe.as_ref()?;
+        let mut point = self.problem;
+        point.connection.theta_max = point.connection.theta_max.min(REFERENCE_THETA_MAX);
+        let problem = LobeToPoint::new(point, Some(lobed.ray().lobe)).ok()?;
+        Some(problem.integral(&self.phase))
+    }
+
+    /// With a lobe at `x0`, the probability `c` with which the recommended
+    /// combination (`lobe-mis`) draws the lobe technique (0: OMNEE alone).
+    pub fn lobe_probability(&self) -> Option<f64> {
+        self.lobe.map(|l| l.probability())
+    }
+
+    /// The running statistics of `technique` (one of
+    /// [`techniques`](Self::techniques)).
+    pub fn stats(&self, technique: Technique) -> Result<Running, Error> {
+        Ok(self.stats[self.slot(technique)?])
     }
 
     /// Forgets all estimates and restarts the generators from the seed.
     pub fn reset(&mut self) {
         self.rngs = Self::fresh_rngs(self.seed);
-        self.stats = [Running::default(); 3];
+        self.stats = [Running::default(); 5];
     }
 
     /// Draws `n` more samples (1 ..= [`MAX_RUN`]) with each of the
-    /// [`METHODS`] and adds their estimates `f_c · k/pdf` (0 where a technique
-    /// returns no sample) to the running statistics.
+    /// [`techniques`](Self::techniques) and adds their estimates
+    /// `f_c · k/pdf` (0 where a technique returns no sample) to the running
+    /// statistics.
     pub fn run(&mut self, n: u32) -> Result<(), Error> {
         check_count("n", n, MAX_RUN, "[1, 16777216]")?;
-        for (i, method) in METHODS.into_iter().enumerate() {
-            let (rng, stats) = (&mut self.rngs[i], &mut self.stats[i]);
+        for (i, &technique) in self.techniques().iter().enumerate() {
+            let mut rng = self.rngs[i];
+            let mut stats = self.stats[i];
             for _ in 0..n {
-                let draw = draw(&self.phase, method, &self.problem, rng);
-                stats.push(draw.sum(|s| self.problem.estimate(s).to_f64()));
+                let draw = self.draw(technique, &mut rng);
+                stats.push(draw.sum(|s| self.estimate(technique, s)));
             }
+            (self.rngs[i], self.stats[i]) = (rng, stats);
         }
         Ok(())
     }
 
-    /// `n` samples (1 ..= [`MAX_CLOUD`]) of `method` (one of [`METHODS`])
-    /// from generator `seed`, rotated into the plane: `[x, y, estimate, …]`,
-    /// one triple per vertex the draws returned (fewer than `n` when some
-    /// fell outside θmax, a few more for MIS's companion vertices). The
-    /// estimate is `f_c · k/pdf`; its sum over a draw's vertices has the
-    /// integral as its mean.
-    pub fn cloud(&self, method: Method, n: u32, seed: u32) -> Result<Vec<f32>, Error> {
+    /// One draw of `technique` with numbers from `rng`.
+    fn draw(&self, technique: Technique, rng: &mut Pcg32) -> Draw<f64> {
+        draw(
+            &self.phase,
+            &self.problem,
+            self.lobe.as_ref(),
+            technique,
+            rng,
+        )
+    }
+
+    /// The estimate `f_c · k/pdf` of the vertex `s` of `technique`: with a
+    /// lobe at `x0` the techniques that do not sample it ([`PLAIN`]) have
+    /// its value `p0(ω01)` multiplied in (the kernel's factor their weight
+    /// lacks).
+    fn estimate(&self, technique: Technique, s: &Sample<f64>) -> f64 {
+        let f = self.problem.estimate(s);
+        match &self.lobe {
+            Some(lobed) if (technique as usize) < PLAIN.len() => f * lobed.omnee().lobe_at(s.x1),
+            _ => f,
+        }
+    }
+
+    /// `n` samples (1 ..= [`MAX_CLOUD`]) of `technique` (one of
+    /// [`techniques`](Self::techniques)) from generator `seed`, rotated into
+    /// the plane: `[x, y, estimate, …]`, one triple per vertex the draws
+    /// returned (fewer than `n` when some fell outside θmax, a few more for
+    /// MIS's companion vertices). The estimate is `f_c · k/pdf`; its sum over
+    /// a draw's vertices has the integral as its mean. (With a lobe at `x0`
+    /// the rotation loses the azimuth about the axis, on which the integrand
+    /// then depends.)
+    pub fn cloud(&self, technique: Technique, n: u32, seed: u32) -> Result<Vec<f32>, Error> {
         check_count("n", n, MAX_CLOUD, "[1, 1048576]")?;
-        let mut rng = Pcg32::new(u64::from(seed), 16 + slot(method)? as u64);
-        let problem = &self.problem;
-        let axis = &problem.connection.axis;
+        let mut rng = Pcg32::new(u64::from(seed), 16 + self.slot(technique)? as u64);
+        let axis = &self.problem.connection.axis;
         let e = axis.e;
         // The in-plane normal of the axis (the plane is z = 0).
         let normal = Vec3::new(-e.y(), e.x(), 0.0);
@@ -229,7 +369,7 @@ impl Problem {
         let mut out = vec![0.0; 6 * n as usize];
         let mut len = 0;
         for _ in 0..n {
-            for s in draw(&self.phase, method, problem, &mut rng).samples() {
+            for s in self.draw(technique, &mut rng).samples() {
                 let p = s.x1 - axis.x0;
                 let along = p.dot(e);
                 let radial = p - e * along;
@@ -237,9 +377,9 @@ impl Problem {
                 let q = axis.x0 + e * along + normal * h;
                 if let Some(point) = out.get_mut(len..len + 3) {
                     point.copy_from_slice(&[
-                        q.x().to_f32(),
-                        q.y().to_f32(),
-                        problem.estimate(s).to_f32(),
+                        q.x() as f32,
+                        q.y() as f32,
+                        self.estimate(technique, s) as f32,
                     ]);
                     len += 3;
                 }
@@ -250,69 +390,83 @@ impl Problem {
     }
 }
 
-/// One draw of `method` (one of [`METHODS`]) for the problem's connection
-/// with numbers from `rng`, the module's one copy of each technique's
-/// sampling (a closure per call site would be a copy each): as
-/// `omnee_core::method::Setup::draw` draws with uniform directions in an
+/// The incoming propagation direction at `x0`: the unit axis `e` turned by
+/// `tilt ∈ [0, π]` in the plane, `cos(tilt) e + sin(tilt) n` with `n` the
+/// in-plane normal (`e` turned by +90°).
+fn incoming(connection: &Connection<f64>, tilt: f64) -> Result<Vec3, Error> {
+    if !(0.0..=core::f64::consts::PI).contains(&tilt) {
+        return Err(Error::OutOfRange {
+            field: "tilt",
+            value: tilt,
+            allowed: "[0, pi]",
+        });
+    }
+    let e = connection.axis.e;
+    let normal = Vec3::new(-e.y(), e.x(), 0.0);
+    let (sin, cos) = Real::sin_cos(tilt);
+    Ok(e * cos + normal * sin)
+}
+
+/// One draw of `technique` (one of the problem's techniques, checked by the
+/// callers) with numbers from `rng`: the module's one copy of the sampling
+/// loop, each technique behind `&dyn Technique` (one copy of each sampler),
+/// as `omnee_core::method::Setup::draw` draws with uniform directions in an
 /// infinite medium, without linking distance sampling, which the demo does
-/// not offer (`Setup::draw` made the module 2.5 KiB larger, over the limit).
+/// not offer (`Setup::draw` made the module 2.5 KiB larger).
 #[inline(never)]
 fn draw(
-    phase: &Analytic<S>,
-    method: Method,
-    problem: &PointToPoint<S>,
+    phase: &Analytic<f64>,
+    problem: &PointToPoint<f64>,
+    lobe: Option<&Lobed>,
+    technique: Technique,
     rng: &mut Pcg32,
-) -> Draw<S> {
+) -> Draw<f64> {
+    let next = || f64::from(rng.uniform());
     let connection = problem.connection;
-    let next = || S::from_f32(rng.uniform());
-    let omnee = Omnee::new(connection, phase);
-    let equiangular = NoInverse(Equiangular::new(
-        connection,
-        phase,
-        Directions::Sphere,
-        Region::Everywhere,
-    ));
-    match method {
-        Method::Omnee => Draw::single(&omnee, next),
-        Method::Equiangular => Draw::single(&equiangular, next),
-        Method::Mis => OmneeMis::recommended(omnee, &equiangular).draw(next),
-        // Refused by `slot` before any draw.
-        Method::Distance => Draw {
-            u: [0.0; 6],
-            taken: 0,
-            vertices: [None, None],
-        },
-    }
+    let omnee = Omnee::new(connection, *phase);
+    let equiangular = Equiangular::new(connection, *phase, Directions::Sphere, Region::Everywhere);
+    let equiangular = NoInverse(&equiangular);
+    let single: &dyn sampling::Technique<f64> = match (technique, lobe) {
+        (Technique::Mis, _) => return OmneeMis::recommended(omnee, &equiangular).draw(next),
+        (Technique::Equiangular, _) => &equiangular,
+        (Technique::Lobe, Some(lobed)) => &NoInverse(lobed.ray()),
+        (Technique::LobeMis, Some(lobed)) => lobed,
+        // Omnee; the lobe techniques without a lobe are refused by `slot`
+        // before any draw.
+        _ => &NoInverse(&omnee),
+    };
+    Draw::single(single, next)
 }
 
 /// A technique without its inverse map, which the demo never uses: behind
 /// `&dyn Technique` ([`OmneeMis`]'s companion) every trait method is linked
 /// through the vtable, and equiangular sampling's `invert` is most of a KiB
 /// of the module. Sampling and densities are the technique's own.
-struct NoInverse<T>(T);
+struct NoInverse<'a, T>(&'a T);
 
-impl<T: Technique<S>> Technique<S> for NoInverse<T> {
+impl<T: sampling::Technique<f64>> sampling::Technique<f64> for NoInverse<'_, T> {
     #[inline]
-    fn sample(&self, u: [S; 3]) -> Option<Sample<S>> {
+    fn sample(&self, u: [f64; 3]) -> Option<Sample<f64>> {
         self.0.sample(u)
     }
 
     #[inline]
-    fn pdf(&self, x1: Vec3) -> S {
+    fn pdf(&self, x1: Vec3) -> f64 {
         self.0.pdf(x1)
     }
 
     /// `None`: not offered by the demo (see the type).
-    fn invert(&self, _x1: Vec3) -> Option<[S; 3]> {
+    fn invert(&self, _x1: Vec3) -> Option<[f64; 3]> {
         None
     }
 }
 
-/// A histogram of `n` deflections θ sampled (in f32, as a renderer does) from
-/// the phase function `spec`, over `bins` equal bins of `[0, theta_hi]`,
-/// against the exact bin averages of the density of θ, `2π p(θ) sin θ`
-/// (from the f64 CDF). Returns `2·bins` numbers: the sampled densities, then
-/// the exact ones (both per radian; samples above `theta_hi` count in neither).
+/// A histogram of `n` deflections θ sampled (in f64, as the demo samples)
+/// from the phase function `spec`, over `bins` equal bins of
+/// `[0, theta_hi]`, against the exact bin averages of the density of θ,
+/// `2π p(θ) sin θ` (from the CDF). Returns `2·bins` numbers: the sampled
+/// densities, then the exact ones (both per radian; samples above
+/// `theta_hi` count in neither).
 pub fn histogram(
     spec: &str,
     n: u32,
@@ -329,13 +483,13 @@ pub fn histogram(
             allowed: "(0, pi]",
         });
     }
-    let (phase, phase64) = phases(spec)?;
+    let phase = phase(spec)?;
     let bins = bins as usize;
     let width = theta_hi / bins as f64;
     let mut out = vec![0.0; 2 * bins];
     let mut rng = Pcg32::new(u64::from(seed), 32);
     for _ in 0..n {
-        let theta = phase.sample(S::from_f32(rng.uniform())).theta.to_f64();
+        let theta = phase.sample(f64::from(rng.uniform())).theta;
         let k = (theta / width) as usize;
         if let Some(c) = out.get_mut(k).filter(|_| k < bins) {
             *c += 1.0;
@@ -346,7 +500,7 @@ pub fn histogram(
     for c in sampled.iter_mut() {
         *c *= scale;
     }
-    let cdf = |theta: f64| phase64.cdf(Deflection::from_theta(theta));
+    let cdf = |theta: f64| phase.cdf(Deflection::from_theta(theta));
     let mut lower = cdf(0.0);
     for (k, c) in exact.iter_mut().enumerate() {
         let upper = cdf((k + 1) as f64 * width);
@@ -374,7 +528,7 @@ pub fn quantile(spec: &str, u: f64) -> Result<f64, Error> {
             allowed: "[0, 1)",
         });
     }
-    let phase = reference_phase(spec)?;
+    let phase = phase(spec)?;
     let cdf = |bits| phase.cdf(Deflection::from_theta(f64::from_bits(bits)));
     if cdf(0) >= u {
         return Ok(0.0);
@@ -392,24 +546,16 @@ pub fn quantile(spec: &str, u: f64) -> Result<f64, Error> {
     Ok(f64::from_bits(hi))
 }
 
-/// The phase function of `spec` in the sampling precision and in f64 (one
-/// copy of the parsing and building for the exports that sample).
+/// The phase function of `spec` (the module's one copy of parsing and
+/// building a spec).
 #[inline(never)]
-fn phases(spec: &str) -> Result<(Analytic<S>, Analytic<f64>), Error> {
-    let spec = Spec::parse(spec)?;
-    Ok((spec.build::<S>()?, spec.build::<f64>()?))
-}
-
-/// The f64 phase function of `spec` (one copy of the parsing and building
-/// for the exports that need no f32 one).
-#[inline(never)]
-fn reference_phase(spec: &str) -> Result<Analytic<f64>, Error> {
+fn phase(spec: &str) -> Result<Analytic<f64>, Error> {
     Spec::parse(spec)?.build::<f64>()
 }
 
 /// The mean cosine ⟨cos θ⟩ of the phase function `spec`.
 pub fn mean_cosine(spec: &str) -> Result<f64, Error> {
-    Ok(reference_phase(spec)?.mean_cosine())
+    Ok(phase(spec)?.mean_cosine())
 }
 
 /// The talk's "waterlevel" triangle `x0, x1, x2` in the plane, with `x1` on
@@ -442,31 +588,12 @@ pub struct Waterlevel {
 }
 
 /// The distance `s` between two plane points, the unit direction `e` from
-/// `x0` to `x2` and the in-plane normal `n` (`e` turned by +90°): the plane
-/// case of the core's `Axis::new`, with its checks and errors and the same
-/// arithmetic (`s = √(dx² + dy²)`, `e = d · (1/s)`), without the 3-D frame.
+/// `x0` to `x2` and the in-plane normal `n` (`e` turned by +90°), from the
+/// core's `Axis::new` (its checks and errors).
 fn axis2(x0: [f64; 2], x2: [f64; 2]) -> Result<(f64, [f64; 2], [f64; 2]), Error> {
-    let finite = |p: [f64; 2]| p[0].is_finite() && p[1].is_finite();
-    if !finite(x0) {
-        return Err(Error::NotFinite { field: "x0" });
-    }
-    if !finite(x2) {
-        return Err(Error::NotFinite { field: "x2" });
-    }
-    let d = [x2[0] - x0[0], x2[1] - x0[1]];
-    let s = Real::sqrt(d[0] * d[0] + d[1] * d[1]);
-    if !(s > 0.0) {
-        return Err(Error::Degenerate {
-            field: "x2",
-            reason: "coincides with x0 (s = 0)",
-        });
-    }
-    if !s.is_finite() {
-        return Err(Error::NotFinite { field: "x2 - x0" });
-    }
-    let inv = 1.0 / s;
-    let e = [d[0] * inv, d[1] * inv];
-    Ok((s, e, [-e[1], e[0]]))
+    let axis = Axis::<f64>::new(plane_point(x0), plane_point(x2))?;
+    let e = [axis.e.x(), axis.e.y()];
+    Ok((axis.s, e, [-e[1], e[0]]))
 }
 
 fn check_theta(theta: f64) -> Result<(), Error> {

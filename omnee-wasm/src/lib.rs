@@ -13,7 +13,8 @@
 //! - [`rng`]: PCG32, so a seed gives the same numbers natively and in wasm;
 //! - [`phase`]: phase functions by specification string.
 //!
-//! Sampling runs in f32 (a renderer's precision), references in f64.
+//! Sampling and references run in f64 (one copy of each routine in the
+//! module; README.md has the measured choice).
 #![forbid(unsafe_code)]
 #![cfg_attr(all(target_arch = "wasm32", not(feature = "std")), no_std)]
 

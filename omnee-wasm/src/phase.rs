@@ -12,6 +12,7 @@
 //! phase function.
 
 use omnee_core::Error;
+use omnee_core::lobe::Restricted;
 use omnee_core::phase::{
     Deflection, Draine, FournierForand, HenyeyGreenstein, Isotropic, Mie, Mixture, Phase,
     PhaseFunction, Rayleigh, TwoTermHg,
@@ -211,6 +212,28 @@ impl<F: Real> PhaseFunction<F> for Analytic<F> {
     #[inline]
     fn backscatter_fraction(&self) -> F {
         dispatch!(self, p => PhaseFunction::<F>::backscatter_fraction(p))
+    }
+}
+
+/// Restricted to an interval of deflections as the variant is (the lobe
+/// technique's deflection at `x1`).
+impl<F: Real> Restricted<F> for Analytic<F> {
+    #[inline]
+    fn mass_between(&self, lo: Deflection<F>, hi: Deflection<F>) -> F {
+        dispatch!(self, p => p.mass_between(lo, hi))
+    }
+    #[inline]
+    fn sample_between(
+        &self,
+        lo: Deflection<F>,
+        hi: Deflection<F>,
+        u: F,
+    ) -> Option<(Deflection<F>, F)> {
+        dispatch!(self, p => p.sample_between(lo, hi, u))
+    }
+    #[inline]
+    fn invert_between(&self, lo: Deflection<F>, hi: Deflection<F>, d: Deflection<F>) -> Option<F> {
+        dispatch!(self, p => p.invert_between(lo, hi, d))
     }
 }
 

@@ -7,7 +7,6 @@
 mod common;
 
 use common::*;
-use omnee_core::method::Method;
 use omnee_wasm::{Demo, Technique, arc, histogram, mean_cosine, quantile, waterlevel};
 use wasm_bindgen::prelude::wasm_bindgen;
 use wasm_bindgen_test::*;
@@ -15,16 +14,24 @@ use wasm_bindgen_test::*;
 wasm_bindgen_test_configure!(run_in_browser);
 
 fn demo(spec: &str, x0: [f64; 2], x2: [f64; 2], m: (f64, f64, f64)) -> Demo {
-    let d = Demo::new(spec, x0[0], x0[1], x2[0], x2[1], m.0, m.1, m.2, SEED);
+    let d = Demo::new(spec, x0[0], x0[1], x2[0], x2[1], m.0, m.1, m.2, SEED, None);
     d.unwrap_or_else(|_| panic!("Demo::new({spec}) failed"))
 }
 
-/// The demo's techniques, in the order of its statistics (`demo::METHODS`).
-const TECHNIQUES: [Technique; 3] = [Technique::Omnee, Technique::Equiangular, Technique::Mis];
+/// The demo's techniques, in the order of its statistics
+/// (`demo::TECHNIQUES`); without a lobe at `x0` the first three.
+const TECHNIQUES: [Technique; 5] = [
+    Technique::Omnee,
+    Technique::Equiangular,
+    Technique::Mis,
+    Technique::Lobe,
+    Technique::LobeMis,
+];
 
-fn estimates(d: &Demo) -> Vec<f64> {
-    TECHNIQUES
-        .into_iter()
+fn estimates(d: &Demo, techniques: &[Technique]) -> Vec<f64> {
+    techniques
+        .iter()
+        .copied()
         .flat_map(|t| {
             let e = d.estimate(t).expect("estimate");
             [get(&e, "count"), get(&e, "mean"), get(&e, "stdError")]
@@ -38,15 +45,32 @@ fn browser_numbers_match_the_native_fixture() {
     a.run(RUN).expect("run a");
     let mut b = demo(B_SPEC, B_X0, B_X2, B_MEDIUM);
     b.run(RUN).expect("run b");
+    let (x0, x2, m) = (C_X0, C_X2, C_MEDIUM);
+    let mut c = Demo::new(
+        C_SPEC,
+        x0[0],
+        x0[1],
+        x2[0],
+        x2[1],
+        m.0,
+        m.1,
+        m.2,
+        SEED,
+        Some(C_TILT),
+    )
+    .expect("case c");
+    c.run(RUN).expect("run c");
     let cloud = |t| numbers(&a.cloud(t, CLOUD, 9).expect("cloud"));
     let (spec, n, bins, hi) = HIST;
     let (x0, x2, theta, xi) = WATER;
     let w = waterlevel(x0[0], x0[1], x2[0], x2[1], theta, xi).expect("waterlevel");
     let got = [
         vec![a.reference()],
-        estimates(&a),
+        estimates(&a, &TECHNIQUES[..3]),
         vec![b.reference()],
-        estimates(&b),
+        estimates(&b, &TECHNIQUES[..3]),
+        estimates(&c, &TECHNIQUES),
+        vec![c.lobe_probability()],
         cloud(Technique::Omnee),
         cloud(Technique::Equiangular),
         cloud(Technique::Mis),
@@ -71,8 +95,8 @@ fn estimates_report_the_relative_error() {
     let mut d = demo("hg:0.9", [-0.5, 0.0], [0.5, 0.0], (0.2, 0.05, PI));
     d.run(50_000).expect("run");
     let r = d.reference();
-    for t in TECHNIQUES {
-        let e = d.estimate(t).expect("estimate");
+    for t in &TECHNIQUES[..3] {
+        let e = d.estimate(*t).expect("estimate");
         assert_eq!(get(&e, "count"), 50_000.0);
         let (mean, rel) = (get(&e, "mean"), get(&e, "relativeError"));
         assert!((rel - (mean - r).abs() / r).abs() < 1e-15);
@@ -82,6 +106,15 @@ fn estimates_report_the_relative_error() {
         get(&d.estimate(Technique::Mis).expect("estimate"), "count"),
         0.0
     );
+    // With a lobe at x0 the module has no reference (the page's is
+    // precomputed) and reports the combination's probability c.
+    assert!(d.lobe_probability().is_nan());
+    let mut t =
+        Demo::new("hg:0.9", -0.5, 0.0, 0.5, 0.0, 0.2, 0.05, PI, 1, Some(0.5)).expect("lobe");
+    assert!(t.reference().is_nan() && t.lobe_probability() > 0.45);
+    t.run(1000).expect("run");
+    let e = t.estimate(Technique::LobeMis).expect("estimate");
+    assert!(get(&e, "mean") > 0.0 && get(&e, "relativeError").is_nan());
     assert!((mean_cosine("hg:0.9").expect("g") - 0.9).abs() < 1e-15);
     let pts = arc(0.0, 0.0, 1.0, 0.0, 1.0, 16).expect("arc");
     assert_eq!(numbers(&pts).len(), 4 * 17);
@@ -90,7 +123,7 @@ fn estimates_report_the_relative_error() {
 #[wasm_bindgen_test]
 fn bad_input_is_an_error_not_a_trap() {
     let bad = |spec: &str, x2: [f64; 2], g: (f64, f64, f64)| {
-        Demo::new(spec, 0.0, 0.0, x2[0], x2[1], g.0, g.1, g.2, 1).is_err()
+        Demo::new(spec, 0.0, 0.0, x2[0], x2[1], g.0, g.1, g.2, 1, None).is_err()
     };
     assert!(bad("hg:0.5", [0.0, 0.0], (0.1, 0.1, PI)), "x0 == x2");
     assert!(bad("hg:0.5", [f64::NAN, 0.0], (0.1, 0.1, PI)), "NaN");
@@ -99,6 +132,10 @@ fn bad_input_is_an_error_not_a_trap() {
     assert!(bad("nope", [1.0, 0.0], (0.1, 0.1, PI)), "unknown spec");
     assert!(bad("iso", [1.0, 0.0], (f64::NAN, 0.1, PI)), "NaN sigma_s");
     assert!(bad("iso", [1.0, 0.0], (0.1, 0.1, 4.0)), "theta_max > pi");
+    for tilt in [-0.5, 4.0, f64::NAN] {
+        let d = Demo::new("iso", 0.0, 0.0, 1.0, 0.0, 0.1, 0.1, PI, 1, Some(tilt));
+        assert!(d.is_err(), "tilt {tilt}");
+    }
     let mut d = demo("iso", [0.0, 0.0], [1.0, 0.0], (0.1, 0.1, PI));
     assert!(d.run(0).is_err() && d.run(u32::MAX).is_err());
     assert!(d.cloud(Technique::Omnee, u32::MAX, 1).is_err());
@@ -163,10 +200,10 @@ fn errors_are_javascript_errors_with_the_cores_message() {
         ("iso", [1.0, 0.0], -0.25),
     ];
     for (spec, x2, sigma_s) in cases {
-        let thrown = Demo::new(spec, 0.0, 0.0, x2[0], x2[1], sigma_s, 0.1, PI, 1)
+        let thrown = Demo::new(spec, 0.0, 0.0, x2[0], x2[1], sigma_s, 0.1, PI, 1, None)
             .map(|_| ())
             .unwrap_err();
-        let native = omnee_wasm::demo::Problem::new(spec, [0.0; 2], x2, sigma_s, 0.1, PI, 1)
+        let native = omnee_wasm::demo::Problem::new(spec, [0.0; 2], x2, sigma_s, 0.1, PI, None, 1)
             .map(|_| ())
             .unwrap_err()
             .to_string();
@@ -175,25 +212,37 @@ fn errors_are_javascript_errors_with_the_cores_message() {
 }
 
 #[wasm_bindgen_test]
-fn techniques_are_the_cores_names_and_other_strings_are_refused() {
-    for (t, m) in TECHNIQUES
-        .into_iter()
-        .zip([Method::Omnee, Method::Equiangular, Method::Mis])
-    {
-        assert_eq!(t.method(), Ok(m));
+fn techniques_are_the_demos_names_and_other_strings_are_refused() {
+    for t in TECHNIQUES {
+        let name = t.technique().expect("a technique").name();
         assert_eq!(
             wasm_bindgen::JsValue::from(t).as_string().as_deref(),
-            Some(m.name())
+            Some(name)
         );
     }
-    let d = wasm_bindgen::JsValue::from(demo("iso", [0.0, 0.0], [1.0, 0.0], (0.1, 0.1, PI)));
-    for name in ["omnee", "equiangular", "mis"] {
-        assert_eq!(refused(&d, name), "", "{name}");
+    let plain = demo("iso", [0.0, 0.0], [1.0, 0.0], (0.1, 0.1, PI));
+    let tilted = Demo::new("iso", 0.0, 0.0, 1.0, 0.0, 0.1, 0.1, PI, 1, Some(1.0)).expect("lobe");
+    let (plain, tilted) = (
+        wasm_bindgen::JsValue::from(plain),
+        wasm_bindgen::JsValue::from(tilted),
+    );
+    for name in ["omnee", "equiangular", "mis", "lobe", "lobe-mis"] {
+        assert_eq!(refused(&tilted, name), "", "{name}");
     }
-    for name in ["distance", "OMNEE", "", "0"] {
+    for name in ["omnee", "equiangular", "mis"] {
+        assert_eq!(refused(&plain, name), "", "{name}");
+    }
+    for name in ["lobe", "lobe-mis"] {
         assert_eq!(
-            refused(&d, name),
-            "syntax error in technique: unknown name; allowed: omnee, equiangular, mis",
+            refused(&plain, name),
+            "syntax error in technique: lobe and lobe-mis need a lobe at x0 (a tilt)",
+            "{name:?}"
+        );
+    }
+    for name in ["distance", "OMNEE", "", "0", "lobemis"] {
+        assert_eq!(
+            refused(&tilted, name),
+            "syntax error in technique: unknown name; allowed: omnee, equiangular, mis, lobe, lobe-mis",
             "{name:?}"
         );
     }

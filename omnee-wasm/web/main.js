@@ -1,23 +1,30 @@
 // The omnee demo page: all numbers come from omnee-core through ./pkg (wasm-bindgen --target web).
 import init, { Demo, arc, histogram, quantile, waterlevel, version } from './pkg/omnee_wasm.js';
+import { LOBE_REFERENCES } from './lobe-references.js';
 
 const $ = (id) => document.getElementById(id);
 const SEED = 2022;
 
 // The techniques: the rows of the estimates table, each with the module's name for it
-// (`Technique`: 'omnee', 'equiangular', 'mis'), a short label and its colour from style.css.
+// (`Technique`: 'omnee', 'equiangular', 'mis', 'lobe', 'lobe-mis'), a short label, its colour
+// from style.css, and whether it needs a lobe at x0.
 const TECHNIQUES = [...document.querySelectorAll('tr[data-technique]')].map((row) => ({
   name: row.dataset.technique,
   label: row.dataset.label,
   row,
   color: getComputedStyle(row.querySelector('th')).color,
+  lobe: row.dataset.lobe !== undefined,
 }));
+// The techniques the current problem runs: with a lobe at x0 all, else those without.
+const active = () => TECHNIQUES.filter((t) => state.tilt !== undefined || !t.lobe);
 const emptyHistory = () => Object.fromEntries(TECHNIQUES.map((t) => [t.name, []]));
 
 const state = {
   x0: [-0.5, 0.0],
   x2: [0.5, 0.0],
   spec: 'hg:0.9',
+  tilt: undefined, // radians with a lobe at x0, undefined without
+  reference: NaN, // the module's without a lobe, else the precomputed one (or NaN)
   demo: null,
   running: true,
   history: emptyHistory(),
@@ -57,13 +64,31 @@ function specFromControls() {
   }
 }
 
+// The precomputed 3-D reference with a lobe at x0 (lobe-references.js) if the problem is one of
+// the table's and the tilt one of its steps, else NaN.
+function lobeReference(sigmaS, sigmaA, thetaMax) {
+  const t = LOBE_REFERENCES;
+  const same = (a, b) => a[0] === b[0] && a[1] === b[1];
+  const k = Math.round(state.tilt / t.tiltStep);
+  const onStep = k / 10 === state.tilt && t.tiltStep === 0.1;
+  const list = Object.hasOwn(t.references, state.spec) ? t.references[state.spec] : [];
+  const match = same(state.x0, t.x0) && same(state.x2, t.x2)
+    && sigmaS === t.sigmaS && sigmaA === t.sigmaA && thetaMax === t.thetaMax;
+  return match && onStep && k < list.length ? list[k] : NaN;
+}
+
 // ---- the estimator (rebuilt whenever the problem changes) ----
 function rebuild() {
+  state.tilt = $('lobe').checked ? Number($('tilt').value) : undefined;
+  $('tilt-out').textContent = Number($('tilt').value).toFixed(1);
+  for (const { row, lobe } of TECHNIQUES) row.hidden = lobe && state.tilt === undefined;
   try {
+    const [sigmaS, sigmaA, thetaMax] = ['sigma-s', 'sigma-a', 'theta-max'].map((id) => Number($(id).value));
     const demo = new Demo(state.spec, state.x0[0], state.x0[1], state.x2[0], state.x2[1],
-      Number($('sigma-s').value), Number($('sigma-a').value), Number($('theta-max').value), SEED);
+      sigmaS, sigmaA, thetaMax, SEED, state.tilt);
     if (state.demo) state.demo.free();
     state.demo = demo;
+    state.reference = state.tilt === undefined ? demo.reference : lobeReference(sigmaS, sigmaA, thetaMax);
     state.history = emptyHistory();
     showError(null);
   } catch (e) {
@@ -84,9 +109,14 @@ function drawView() {
   $('xi-out').textContent = xi.toFixed(2);
   // the sample cloud
   const technique = $('cloud').value;
-  if (state.demo && technique) {
+  if (state.demo && active().some((t) => t.name === technique)) {
     const pts = state.demo.cloud(technique, 3000, 7);
-    const ref = state.demo.reference;
+    // Colours relative to the reference, or to the cloud's mean where there is none.
+    let ref = state.reference;
+    if (!Number.isFinite(ref)) {
+      ref = 0;
+      for (let i = 2; i < pts.length; i += 3) ref += pts[i] / (pts.length / 3);
+    }
     for (let i = 0; i < pts.length; i += 3) {
       const r = Math.log2(Math.max(pts[i + 2], 1e-30) / ref); // 0 = the reference
       const c = Math.max(-1, Math.min(1, r / 4));
@@ -230,19 +260,27 @@ function drawHistogram() {
 // ---- live convergence ----
 function updateEstimates() {
   const d = state.demo;
-  $('reference').textContent = d ? fmt(d.reference, 7) : '–';
-  for (const { name, row } of TECHNIQUES) {
+  const ref = state.reference;
+  const known = Number.isFinite(ref);
+  $('reference').textContent = d && known ? fmt(ref, 7) : '–';
+  $('reference-note').textContent = state.tilt === undefined ? ''
+    : known ? '3-D quadrature, precomputed (lobe-references.js)'
+      : 'not precomputed for this problem: the plot shows the relative standard error';
+  $('lobe-c').textContent = d && state.tilt !== undefined ? fmt(d.lobeProbability, 3) : '–';
+  for (const { name, row } of active()) {
     if (!d) break;
     const e = d.estimate(name);
+    const rel = Math.abs(e.mean - ref) / ref;
     const set = (cell, text) => { row.querySelector(`.${cell}`).textContent = text; };
     set('count', e.count.toLocaleString('en-US'));
     set('mean', fmt(e.mean, 6));
     set('se', fmt(e.stdError, 3));
-    set('rel', fmt(e.relativeError, 3));
-    set('z', e.stdError > 0 ? ((e.mean - d.reference) / e.stdError).toFixed(2) : '–');
+    set('rel', known ? fmt(rel, 3) : '–');
+    set('z', known && e.stdError > 0 ? ((e.mean - ref) / e.stdError).toFixed(2) : '–');
     if (e.count > 0) {
       const h = state.history[name];
-      if (!h.length || e.count >= 1.1 * h[h.length - 1][0]) h.push([e.count, Math.max(e.relativeError, 1e-7)]);
+      const y = known ? rel : e.stdError / Math.abs(e.mean);
+      if (!h.length || e.count >= 1.1 * h[h.length - 1][0]) h.push([e.count, Math.max(y, 1e-7)]);
     }
   }
   $('rate').textContent = state.rate ? Math.round(state.rate).toLocaleString('en-US') : '–';
@@ -261,8 +299,8 @@ function drawConvergence() {
   ctx.beginPath(); ctx.moveTo(L, B - H); ctx.lineTo(L, B); ctx.lineTo(L + W, B); ctx.stroke();
   for (let p = nLo; p <= nHi; p++) ctx.fillText(`1e${p}`, x(10 ** p) - 10, B + 16);
   for (let p = eLo; p <= eHi; p++) ctx.fillText(`1e${p}`, 8, y(10 ** p) + 4);
-  ctx.fillText('relative error vs samples', L + 10, 16);
-  TECHNIQUES.forEach(({ name, label, color }, t) => {
+  ctx.fillText(Number.isFinite(state.reference) ? 'relative error vs samples' : 'relative standard error vs samples', L + 10, 16);
+  active().forEach(({ name, label, color }, t) => {
     ctx.strokeStyle = color;
     ctx.lineWidth = 2;
     ctx.beginPath();
@@ -279,7 +317,7 @@ function measure(n) {
   const t0 = performance.now();
   state.demo.run(n);
   const dt = (performance.now() - t0) / 1000;
-  return (TECHNIQUES.length * n) / Math.max(dt, 1e-6);
+  return (active().length * n) / Math.max(dt, 1e-6);
 }
 
 function frame() {
@@ -288,7 +326,7 @@ function frame() {
       const t0 = performance.now();
       state.demo.run(state.samplesPerFrame);
       const dt = performance.now() - t0;
-      state.rate = (TECHNIQUES.length * state.samplesPerFrame) / Math.max(dt / 1000, 1e-6);
+      state.rate = (active().length * state.samplesPerFrame) / Math.max(dt / 1000, 1e-6);
       // aim at about 12 ms of sampling per frame
       state.samplesPerFrame = Math.max(1000, Math.min(2_000_000, Math.round(state.samplesPerFrame * (12 / Math.max(dt, 0.5)))));
       updateEstimates();
@@ -318,7 +356,9 @@ async function main() {
   for (const id of ['theta', 'xi', 'cloud']) $(id).addEventListener('input', drawView);
   for (const id of ['family', 'g', 'diameter']) $(id).addEventListener('input', onPhaseControls);
   $('spec').addEventListener('change', () => { state.spec = $('spec').value.trim(); rebuild(); });
-  for (const id of ['sigma-s', 'sigma-a', 'theta-max']) $(id).addEventListener('change', rebuild);
+  for (const id of ['sigma-s', 'sigma-a', 'theta-max', 'lobe']) $(id).addEventListener('change', rebuild);
+  // Moving the tilt turns the lobe at x0 on.
+  $('tilt').addEventListener('input', () => { $('lobe').checked = true; rebuild(); });
   $('pause').addEventListener('click', () => {
     state.running = !state.running;
     $('pause').textContent = state.running ? 'pause' : 'run';
@@ -328,7 +368,7 @@ async function main() {
   $('diameter-out').textContent = Number($('diameter').value).toFixed(1);
   rebuild();
   // for the end-to-end test: the state, the world <-> pixel map and a throughput probe
-  window.omnee = { state, toPx, measure, techniques: TECHNIQUES.map((t) => t.name), ready: true };
+  window.omnee = { state, toPx, measure, rebuild, techniques: TECHNIQUES.map((t) => t.name), ready: true };
   requestAnimationFrame(frame);
 }
 

@@ -25,6 +25,17 @@ pub const B_X0: [f64; 2] = [0.0, 0.0];
 pub const B_X2: [f64; 2] = [1.3, 0.7];
 /// Case B medium and restriction.
 pub const B_MEDIUM: (f64, f64, f64) = (0.5, 0.5, PI / 2.0);
+/// Case C: a lobe at x0 (HG 0.98 at both vertices), its incoming direction
+/// tilted 0.5 rad from the axis; every technique runs.
+pub const C_SPEC: &str = "hg:0.98";
+/// Case C end points.
+pub const C_X0: [f64; 2] = [-0.5, 0.0];
+/// Case C end points.
+pub const C_X2: [f64; 2] = [0.5, 0.0];
+/// Case C medium and restriction.
+pub const C_MEDIUM: (f64, f64, f64) = (0.5, 0.05, PI);
+/// Case C tilt of the incoming direction at x0 (radians).
+pub const C_TILT: f64 = 0.5;
 /// Seed of the estimators.
 pub const SEED: u32 = 2022;
 /// Samples per technique in the estimator fixture.
@@ -36,6 +47,21 @@ pub const HIST: (&str, u32, u32, f64) = ("draine:0.6,2", 50_000, 12, 2.0);
 /// Waterlevel case: x0, x2, θ, ξ.
 pub const WATER: ([f64; 2], [f64; 2], f64, f64) = ([-0.4, 0.3], [0.8, -0.2], 0.9, 0.35);
 
+/// The problems of the page's table of 3-D references with a lobe at x0
+/// (`web/lobe-references.js`): the page's default end points and medium
+/// (`web/index.html`, `web/main.js`) with its default phase function and
+/// with issue 15's g = 0.98 (the g slider's `hg:0.98`).
+pub const LOBE_SPECS: [&str; 2] = ["hg:0.9", "hg:0.98"];
+/// The table's end points.
+pub const LOBE_X0: [f64; 2] = [-0.5, 0.0];
+/// The table's end points.
+pub const LOBE_X2: [f64; 2] = [0.5, 0.0];
+/// The table's medium and restriction (σs, σa, θmax).
+pub const LOBE_MEDIUM: (f64, f64, f64) = (0.2, 0.05, PI);
+/// The table's tilts are `k/10` for `k = 0 ..= LOBE_TILT_STEPS` (the page's
+/// tilt slider: 0 to 3.1 in steps of 0.1).
+pub const LOBE_TILT_STEPS: u32 = 31;
+
 /// Checks `got` against `want` to 1e-6 relative, element by element.
 pub fn assert_close(name: &str, got: &[f64], want: &[f64]) {
     assert_eq!(got.len(), want.len(), "{name}: length");
@@ -46,11 +72,13 @@ pub fn assert_close(name: &str, got: &[f64], want: &[f64]) {
 }
 
 /// The named value lists in a fixed order, for [`fixture`].
-pub const NAMES: [&str; 10] = [
+pub const NAMES: [&str; 12] = [
     "a_reference",
     "a_estimates",
     "b_reference",
     "b_estimates",
+    "c_estimates",
+    "c_probability",
     "cloud_omnee",
     "cloud_equiangular",
     "cloud_mis",
