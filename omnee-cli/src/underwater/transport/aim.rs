@@ -101,7 +101,7 @@ impl FloorCells {
     }
 
     /// `Σ w` over the image's cell count: the image-plane density of
-    /// [`Self::sample`] at a point of a cell of weight `w_k` is
+    /// `sample` at a point of a cell of weight `w_k` is
     /// `w_k / (fraction · A_img)`.
     pub fn fraction(&self) -> f32 {
         self.cdf.last().copied().unwrap_or(0.0) / (Self::COLUMNS * Self::ROWS) as f32
