@@ -233,3 +233,29 @@ fn bad_underwater_input_exits_2_naming_the_field_and_writes_nothing() {
         stderr(&o)
     );
 }
+
+#[test]
+fn probe_rejects_the_underwater_terms_naming_the_field_and_the_allowed_ones() {
+    let dir = tempfile::tempdir().unwrap();
+    for term in ["caustics", "caustics-once-more", "shafts", "direct,shafts"] {
+        let o = run_in(
+            dir.path(),
+            &[
+                "probe",
+                "--point",
+                "0,0,0",
+                "--terms",
+                term,
+                "--samples",
+                "10",
+            ],
+        );
+        assert_eq!(o.status.code(), Some(2), "{term}");
+        let e = stderr(&o);
+        assert!(e.contains("--terms"), "{term}: {e}");
+        assert!(e.contains("allowed: direct, once-more"), "{term}: {e}");
+        assert!(e.contains("underwater"), "{term}: {e}");
+        assert!(stdout(&o).is_empty(), "{term}");
+        assert!(files_in(dir.path()).is_empty(), "{term}");
+    }
+}
