@@ -182,7 +182,7 @@ fn parse_sun(root: &toml::Table) -> Result<Sun> {
             direction.to_array()
         )));
     }
-    let irradiance = s.number("irradiance", Some(1000.0), Range::NON_NEGATIVE)?;
+    let irradiance = s.number("irradiance", Some(1000.0), Range::EMISSION)?;
     let radius = s.number("angular_radius_deg", Some(0.27), Range::closed(0.0, 10.0))?;
     s.finish()?;
     Ok(Sun::new(
