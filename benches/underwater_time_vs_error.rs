@@ -11,6 +11,9 @@
 //!   estimated from their difference (`relMSE(A, B)/4`) and reported;
 //! - `--budget S`: the equal CPU time for the crops figure (default 4 s);
 //! - `--skips`: also what skipping saves (a flat surface, σs = 0, one term);
+//! - `--spread K`: also each layer's variance over K renders of 4 passes
+//!   with different seeds (one thread): the relMSE and nMSE of one render
+//!   against the K renders' mean, which heavy-tailed weights (fireflies) blow up;
 //! - `--render`: also the default render of the built-in scene at its
 //!   resolution and passes on 2 threads: wall time, and the images
 //!   `omnee-cli/docs/underwater.png` and `docs/figures/underwater-<term>.png`.
@@ -37,17 +40,40 @@ use omnee_cli::phase::TableStorage;
 use omnee_cli::render::budget::Budget;
 use omnee_cli::underwater::render::{Options, Rendered, render};
 use omnee_cli::underwater::scene::UnderwaterScene;
-use omnee_cli::underwater::transport::{OnceMoreTech, Term, World};
+use omnee_cli::underwater::transport::{LobeTech, OnceMoreTech, TERMS, Term, World};
 use std::fmt::Write as _;
 use std::time::Instant;
 
-/// The compared variants: a name, the technique, and mis's companion rate
-/// and cone edge.
-const TECHS: [(&str, OnceMoreTech, f32, f32); 4] = [
-    ("omnee", OnceMoreTech::Omnee, 0.0, 0.0),
-    ("equiangular", OnceMoreTech::Equiangular, 0.0, 0.0),
-    ("mis", OnceMoreTech::Mis, 0.05, 0.75 * std::f32::consts::PI),
-    ("mis (rate 1, all θ)", OnceMoreTech::Mis, 1.0, 0.0),
+/// A compared variant: its label and how it sets up the world.
+type Variant = (&'static str, fn(&mut World<'_>));
+
+/// `caustics-once-more`'s techniques (mis with the scene's defaults and
+/// with the built-in scene's rate 1 over all θ).
+const ONCE_MORE: [Variant; 4] = [
+    ("omnee", |w| w.once_more.tech = OnceMoreTech::Omnee),
+    ("equiangular", |w| {
+        w.once_more.tech = OnceMoreTech::Equiangular
+    }),
+    ("mis", |w| {
+        w.once_more.tech = OnceMoreTech::Mis;
+        w.once_more.mis_rate = 0.05;
+        w.once_more.mis_theta_min = 0.75 * std::f32::consts::PI;
+    }),
+    ("mis (rate 1, all θ)", two_sample_mis),
+];
+
+/// Two-sample MIS of OMNEE and camera-ray equiangular over the whole range:
+/// `caustics-once-more`'s reference.
+fn two_sample_mis(w: &mut World<'_>) {
+    w.once_more.tech = OnceMoreTech::Mis;
+    w.once_more.mis_rate = 1.0;
+    w.once_more.mis_theta_min = 0.0;
+}
+
+/// `shafts-once-more`'s techniques; the reference is the second.
+const LOBE: [Variant; 2] = [
+    ("omnee (lobe in the weight)", |w| w.lobe = LobeTech::Omnee),
+    ("lobe-mis", |w| w.lobe = LobeTech::LobeMis),
 ];
 
 /// Renders `world` for `spp` passes with `seed` on a pool of `threads`,
@@ -150,12 +176,12 @@ fn skips(md: &mut String, w: u32, h: u32) {
         ("flat surface".into(), flat),
         ("water.sigma_s = 0 (scattering terms skipped)".into(), clear),
     ];
-    for term in Term::ALL {
+    for term in TERMS {
         let only = base.replace(
             "terms = [\"caustics\", \"caustics-once-more\", \"shafts\"]",
-            &format!("terms = [\"{}\"]", term.name()),
+            &format!("terms = [\"{term}\"]"),
         );
-        variants.push((format!("{} alone", term.name()), only));
+        variants.push((format!("{term} alone"), only));
     }
     let _ = writeln!(
         md,
@@ -174,6 +200,221 @@ fn skips(md: &mut String, w: u32, h: u32) {
         let _ = writeln!(md, "| {label} | {cpu:.2} | {} |", fmt3(cpu / base_cpu));
     }
     let _ = writeln!(md);
+}
+
+/// Each layer's spread: `k` renders of 4 passes with different seeds at
+/// `w × h` on one thread; per layer the relMSE and nMSE of one render
+/// against the renders' mean `M` (the variance of one render over `M²`,
+/// times `k/(k − 1)`), over the pixels where `M > 0`.
+fn spread(md: &mut String, k: usize, w: u32, h: u32) {
+    let scene = UnderwaterScene::builtin();
+    let mut storage = TableStorage::<f32>::default();
+    let phase = scene.phase.instantiate::<f32>(&mut storage).expect("phase");
+    let world = World::new(&scene, phase, w, h);
+    let mut names: Vec<String> = TERMS
+        .iter()
+        .filter(|t| world.enabled(**t))
+        .map(Term::to_string)
+        .collect();
+    names.push(String::new());
+    let renders: Vec<(Rendered, f64)> = (0..k)
+        .map(|i| timed(&world, 4, 1000 + i as u64, 1))
+        .collect();
+    let cpu = renders.iter().map(|r| r.1).sum::<f64>() / k as f64;
+    let _ = writeln!(
+        md,
+        "## The spread of each layer\n\n`cargo bench --bench underwater_time_vs_error -- --spread {k}`: \
+         the built-in scene at {w}x{h}, {k} renders of 4 passes with different seeds on one thread \
+         ({cpu:.2} s CPU each); per layer the error of one render against the renders' mean, \
+         relMSE and nMSE as below, times k/(k − 1):\n\n| layer | relMSE | nMSE |\n|---|---|---|"
+    );
+    for name in names {
+        let images: Vec<Vec<f64>> = renders
+            .iter()
+            .map(|r| luminance(&r.0.layers, &name))
+            .collect();
+        let n = images[0].len();
+        let mean: Vec<f64> = (0..n)
+            .map(|p| images.iter().map(|i| i[p]).sum::<f64>() / k as f64)
+            .collect();
+        let scale = k as f64 / (k - 1) as f64 / k as f64;
+        let rel = scale * images.iter().map(|i| rel_mse(i, &mean)).sum::<f64>();
+        let nm = scale * images.iter().map(|i| n_mse(i, &mean)).sum::<f64>();
+        let label = if name.is_empty() { "sum" } else { &name };
+        println!("spread {label:<20} relMSE {rel:.4} nMSE {nm:.4}");
+        let _ = writeln!(md, "| {label} | {} | {} |", fmt3(rel), fmt3(nm));
+    }
+    let _ = writeln!(md);
+}
+
+/// How long the comparisons run.
+#[derive(Clone, Copy, Debug)]
+struct Settings {
+    /// Passes of each of the reference's two renders.
+    reference_spp: u32,
+    /// Each variant renders 1, 2, … 2^max_log2 passes.
+    max_log2: u32,
+    /// The equal CPU time of the table and the figure (s).
+    budget: f64,
+}
+
+/// The equal-time comparison of `variants` on `world` (its one term
+/// `term`): a reference of two renders set up by `reference`, each
+/// variant's renders of 1, 2, … passes on one thread with relMSE and nMSE
+/// against it, the table at equal CPU time (after `intro`), every render,
+/// and the figure `docs/figures/<figure>.png` (the variants at about the
+/// budget and the reference, side by side).
+#[allow(clippy::too_many_arguments)]
+fn equal_time(
+    md: &mut String,
+    world: &mut World<'_>,
+    term: Term,
+    variants: &[Variant],
+    reference: fn(&mut World<'_>),
+    intro: &str,
+    figure: &str,
+    rest: &Settings,
+) {
+    let Settings {
+        reference_spp,
+        max_log2,
+        budget,
+    } = *rest;
+    let (w, h) = (world.camera.width, world.camera.height);
+    reference(world);
+    let (ref_a, ta) = timed(world, reference_spp, 1001, 2);
+    let (ref_b, tb) = timed(world, reference_spp, 2002, 2);
+    let name = &term.to_string();
+    let (la, lb) = (
+        luminance(&ref_a.layers, name),
+        luminance(&ref_b.layers, name),
+    );
+    let reference: Vec<f64> = la.iter().zip(&lb).map(|(a, b)| 0.5 * (a + b)).collect();
+    let (ref_rel, ref_n) = (rel_mse(&la, &lb) / 4.0, n_mse(&la, &lb) / 4.0);
+    println!(
+        "reference: 2 x {reference_spp} passes in {:.0} s CPU, own relMSE {}, nMSE {}",
+        ta + tb,
+        fmt3(ref_rel),
+        fmt3(ref_n)
+    );
+    let mut curves: Vec<Vec<Point>> = Vec::new();
+    let mut images: Vec<Option<Layers>> = Vec::new();
+    for (label, set) in variants {
+        set(world);
+        let mut curve = Vec::new();
+        let mut at_budget: Option<Layers> = None;
+        for k in 0..=max_log2 {
+            let spp = 1u32 << k;
+            let (out, cpu) = timed(world, spp, 7 + k as u64, 1);
+            let lum = luminance(&out.layers, name);
+            let p = Point {
+                spp,
+                cpu,
+                rel: rel_mse(&lum, &reference),
+                n: n_mse(&lum, &reference),
+            };
+            println!(
+                "{label:<20} {spp:>5} passes {cpu:>8.2} s CPU relMSE {} nMSE {}",
+                fmt3(p.rel),
+                fmt3(p.n)
+            );
+            curve.push(p);
+            if cpu <= budget * 1.5 {
+                at_budget = Some(out.layers);
+            }
+        }
+        curves.push(curve);
+        images.push(at_budget);
+    }
+    let efficiency = |c: &[Point], error: Error| {
+        let mut e: Vec<f64> = c
+            .iter()
+            .filter(|p| p.spp >= 4)
+            .map(|p| 1.0 / (error(p) * p.cpu.max(0.01)))
+            .collect();
+        if e.is_empty() {
+            return f64::NAN;
+        }
+        median(&mut e)
+    };
+    let rel: Error = |p| p.rel;
+    let n: Error = |p| p.n;
+    let (base_rel, base_n) = (efficiency(&curves[0], rel), efficiency(&curves[0], n));
+    let _ = writeln!(
+        md,
+        "{intro} The reference's own error, from the difference of its two renders: relMSE {}, nMSE {}.\n",
+        fmt3(ref_rel),
+        fmt3(ref_n)
+    );
+    let _ = writeln!(
+        md,
+        "| technique | relMSE at {budget} s | nMSE at {budget} s | efficiency (relMSE) | relative | \
+         efficiency (nMSE) | relative |\n|---|---|---|---|---|---|---|"
+    );
+    for ((label, _), c) in variants.iter().zip(&curves) {
+        let (er, en) = (efficiency(c, rel), efficiency(c, n));
+        let _ = writeln!(
+            md,
+            "| {label} | {} | {} | {} | {} | {} | {} |",
+            fmt3(at_time(c, budget, rel)),
+            fmt3(at_time(c, budget, n)),
+            fmt3(er),
+            fmt3(er / base_rel),
+            fmt3(en),
+            fmt3(en / base_n)
+        );
+    }
+    let _ = writeln!(md, "\nEvery render (passes: CPU seconds, relMSE, nMSE):\n");
+    for ((label, _), c) in variants.iter().zip(&curves) {
+        let _ = writeln!(
+            md,
+            "- {label}: {}",
+            c.iter()
+                .map(|p| format!("{}: {:.2} s, {}, {}", p.spp, p.cpu, fmt3(p.rel), fmt3(p.n)))
+                .collect::<Vec<_>>()
+                .join("; ")
+        );
+    }
+
+    // The crops figure: each technique's render closest to `budget` below
+    // 1.5 budget, and the reference, side by side, at the reference's exposure.
+    let (_, ev) = tone_map(ref_a.layers.get(name).expect("layer"), None);
+    let mut panels: Vec<Vec<f32>> = images
+        .iter()
+        .map(|i| {
+            i.as_ref()
+                .map(|l| l.get(name).expect("layer").to_vec())
+                .unwrap_or_else(|| vec![0.0; (w * h * 3) as usize])
+        })
+        .collect();
+    let (a, b) = (
+        ref_a.layers.get(name).expect("layer"),
+        ref_b.layers.get(name).expect("layer"),
+    );
+    panels.push(a.iter().zip(b).map(|(x, y)| 0.5 * (x + y)).collect());
+    let gap = 4usize;
+    let (pw, ph) = (w as usize, h as usize);
+    let total_w = panels.len() * pw + (panels.len() - 1) * gap;
+    let mut canvas = vec![255u8; total_w * ph * 3];
+    for (k, panel) in panels.iter().enumerate() {
+        let (srgb, _) = tone_map(panel, Some(ev));
+        for y in 0..ph {
+            for x in 0..pw {
+                for c in 0..3 {
+                    canvas[(y * total_w + k * (pw + gap) + x) * 3 + c] = srgb[(y * pw + x) * 3 + c];
+                }
+            }
+        }
+    }
+    let fig = docs_path(&format!("figures/{figure}.png"));
+    write_png(&fig, total_w, ph, &canvas).expect("png");
+    let _ = writeln!(
+        md,
+        "\n`docs/figures/{figure}.png`: from left to right {} at about {budget} s CPU each \
+         (the largest power-of-two pass count within 1.5× of it), and the reference; one exposure for all.\n",
+        variants.iter().map(|t| t.0).collect::<Vec<_>>().join(", ")
+    );
+    println!("figure {}", fig.display());
 }
 
 fn parse_resolution(s: &str) -> (u32, u32) {
@@ -221,9 +462,9 @@ fn main() {
         let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
             .join("omnee-cli/docs/underwater.png");
         write_png(&path, dw as usize, dh as usize, &srgb).expect("png");
-        for term in Term::ALL {
-            let (srgb, _) = tone_map(out.layers.get(term.name()).expect("layer"), Some(ev));
-            let p = docs_path(&format!("figures/underwater-{}.png", term.name()));
+        for term in TERMS.into_iter().filter(|t| world.enabled(*t)) {
+            let (srgb, _) = tone_map(out.layers.get(&term.to_string()).expect("layer"), Some(ev));
+            let p = docs_path(&format!("figures/underwater-{term}.png"));
             write_png(&p, dw as usize, dh as usize, &srgb).expect("png");
         }
         let st = out.stats;
@@ -235,15 +476,12 @@ fn main() {
             md,
             "## The default render\n\n`underwater` at {dw}x{dh}, {spp} passes of {dw}·{dh} light paths \
              ({} paths) on 2 threads: **{wall:.1} s wall**, {cpu:.1} s CPU. Paths outside the lit region {}, \
-             lost at the surface {}, floor hits {}; splats: caustics {}, caustics-once-more {}, shafts {}; \
-             wave-band visibility tests {}.\n",
+             lost at the surface {}, floor hits {}; splats: {}; wave-band visibility tests {}.\n",
             st.paths,
             st.outside_region,
             st.lost_at_surface,
             st.floor_hits,
-            st.splats[0],
-            st.splats[1],
-            st.splats[2],
+            st.splats_by_term(),
             st.surface_tests
         );
     }
@@ -252,162 +490,71 @@ fn main() {
         skips(&mut md, w, h);
     }
 
-    // The comparison: caustics-once-more only.
-    scene.render.terms = [false, true, false];
+    let k: usize = arg("--spread", 0);
+    if k >= 2 {
+        spread(&mut md, k, w, h);
+    }
+
+    // The comparisons: each term alone.
+    let rest = Settings {
+        reference_spp,
+        max_log2,
+        budget,
+    };
+    scene.render.terms = [false, true, false, false];
     let phase = scene.phase.instantiate::<f32>(&mut storage).expect("phase");
     let mut world = World::new(&scene, phase, w, h);
-    // The reference: two-sample MIS of OMNEE and camera-ray equiangular over
-    // the whole range, the lowest-variance combination everywhere.
-    world.once_more.tech = OnceMoreTech::Mis;
-    world.once_more.mis_rate = 1.0;
-    world.once_more.mis_theta_min = 0.0;
-    let (ref_a, ta) = timed(&world, reference_spp, 1001, 2);
-    let (ref_b, tb) = timed(&world, reference_spp, 2002, 2);
-    let name = Term::CausticsOnceMore.name();
-    let (la, lb) = (
-        luminance(&ref_a.layers, name),
-        luminance(&ref_b.layers, name),
-    );
-    let reference: Vec<f64> = la.iter().zip(&lb).map(|(a, b)| 0.5 * (a + b)).collect();
-    let (ref_rel, ref_n) = (rel_mse(&la, &lb) / 4.0, n_mse(&la, &lb) / 4.0);
-    println!(
-        "reference: 2 x {reference_spp} passes in {:.0} s CPU, own relMSE {}, nMSE {}",
-        ta + tb,
-        fmt3(ref_rel),
-        fmt3(ref_n)
-    );
-    let mut curves: Vec<Vec<Point>> = Vec::new();
-    let mut images: Vec<Option<Layers>> = Vec::new();
-    for (label, tech, rate, theta_min) in TECHS {
-        world.once_more.tech = tech;
-        world.once_more.mis_rate = rate;
-        world.once_more.mis_theta_min = theta_min;
-        let mut curve = Vec::new();
-        let mut at_budget: Option<Layers> = None;
-        for k in 0..=max_log2 {
-            let spp = 1u32 << k;
-            let (out, cpu) = timed(&world, spp, 7 + k as u64, 1);
-            let lum = luminance(&out.layers, name);
-            let p = Point {
-                spp,
-                cpu,
-                rel: rel_mse(&lum, &reference),
-                n: n_mse(&lum, &reference),
-            };
-            println!(
-                "{label:<20} {spp:>5} passes {cpu:>8.2} s CPU relMSE {} nMSE {}",
-                fmt3(p.rel),
-                fmt3(p.n)
-            );
-            curve.push(p);
-            if cpu <= budget * 1.5 {
-                at_budget = Some(out.layers);
-            }
-        }
-        curves.push(curve);
-        images.push(at_budget);
-    }
-    let efficiency = |c: &[Point], error: Error| {
-        let mut e: Vec<f64> = c
-            .iter()
-            .filter(|p| p.spp >= 4)
-            .map(|p| 1.0 / (error(p) * p.cpu.max(0.01)))
-            .collect();
-        if e.is_empty() {
-            return f64::NAN;
-        }
-        median(&mut e)
-    };
-    let rel: Error = |p| p.rel;
-    let n: Error = |p| p.n;
-    let (base_rel, base_n) = (efficiency(&curves[0], rel), efficiency(&curves[0], n));
-    let _ = writeln!(
-        md,
+    let intro = format!(
         "## Equal time: the once-more techniques on `caustics-once-more`\n\n\
          The built-in scene at {w}x{h}, `caustics-once-more` only (phase `{}`, σs = 0.25 /m, floor 4 m \
          down, {} draws per floor point). Each technique renders 1, 2, …, {} passes on one thread; time is \
          CPU time. Reference: two renders of {reference_spp} passes with two-sample MIS (OMNEE and \
-         camera-ray equiangular, both always, balance heuristic over the whole range); its own error from \
-         the difference of the two: relMSE {}, nMSE {}. Errors: relMSE = mean over pixels of \
-         (I − R)²/(R² + ε), ε = (0.01 mean R)², which the sparse dark water pixels dominate, and \
-         nMSE = Σ(I − R)²/ΣR², which the bright floor dominates; both at {budget} s CPU (log-log \
-         interpolated between the renders), and the efficiencies 1/(error · s), medians over the renders \
-         of ≥ 4 passes, relative to OMNEE's:\n",
+         camera-ray equiangular, both always, balance heuristic over the whole range). Errors: relMSE = \
+         mean over pixels of (I − R)²/(R² + ε), ε = (0.01 mean R)², which the sparse dark water pixels \
+         dominate, and nMSE = Σ(I − R)²/ΣR², which the bright floor dominates; both at {budget} s CPU \
+         (log-log interpolated between the renders), and the efficiencies 1/(error · s), medians over the \
+         renders of ≥ 4 passes, relative to OMNEE's.",
         scene.phase,
         scene.render.once_more_samples,
         1u32 << max_log2,
-        fmt3(ref_rel),
-        fmt3(ref_n)
     );
-    let _ = writeln!(
-        md,
-        "| technique | relMSE at {budget} s | nMSE at {budget} s | efficiency (relMSE) | relative | \
-         efficiency (nMSE) | relative |\n|---|---|---|---|---|---|---|"
+    equal_time(
+        &mut md,
+        &mut world,
+        Term::CausticsOnceMore,
+        &ONCE_MORE,
+        two_sample_mis,
+        &intro,
+        "underwater-equal-time",
+        &rest,
     );
-    for ((label, ..), c) in TECHS.iter().zip(&curves) {
-        let (er, en) = (efficiency(c, rel), efficiency(c, n));
-        let _ = writeln!(
-            md,
-            "| {label} | {} | {} | {} | {} | {} | {} |",
-            fmt3(at_time(c, budget, rel)),
-            fmt3(at_time(c, budget, n)),
-            fmt3(er),
-            fmt3(er / base_rel),
-            fmt3(en),
-            fmt3(en / base_n)
-        );
-    }
-    let _ = writeln!(md, "\nEvery render (passes: CPU seconds, relMSE, nMSE):\n");
-    for ((label, ..), c) in TECHS.iter().zip(&curves) {
-        let _ = writeln!(
-            md,
-            "- {label}: {}",
-            c.iter()
-                .map(|p| format!("{}: {:.2} s, {}, {}", p.spp, p.cpu, fmt3(p.rel), fmt3(p.n)))
-                .collect::<Vec<_>>()
-                .join("; ")
-        );
-    }
 
-    // The crops figure: each technique's render closest to `budget` below
-    // 1.5 budget, and the reference, side by side, at the reference's exposure.
-    let (_, ev) = tone_map(ref_a.layers.get(name).expect("layer"), None);
-    let mut panels: Vec<Vec<f32>> = images
-        .iter()
-        .map(|i| {
-            i.as_ref()
-                .map(|l| l.get(name).expect("layer").to_vec())
-                .unwrap_or_else(|| vec![0.0; (w * h * 3) as usize])
-        })
-        .collect();
-    let (a, b) = (
-        ref_a.layers.get(name).expect("layer"),
-        ref_b.layers.get(name).expect("layer"),
+    scene.render.terms = [false, false, false, true];
+    let phase = scene.phase.instantiate::<f32>(&mut storage).expect("phase");
+    let mut world = World::new(&scene, phase, w, h);
+    let intro = format!(
+        "## Equal time: the lobe at x0 on `shafts-once-more`\n\n\
+         The built-in scene at {w}x{h}, `shafts-once-more` only: {} vertices x0 on each refracted sun ray \
+         (free flight), each connected once more to the eye, x1 by OMNEE with the phase function's lobe \
+         about the sun's refracted direction at x0 in its weight, or by the core's recommended combination \
+         of OMNEE and the lobe technique (`LobeMis::recommended`, docs/math.md §12.4). Passes 1, 2, …, {} on \
+         one thread, CPU time; reference: two renders of {reference_spp} passes with `lobe-mis`; errors and \
+         efficiencies as above, relative to OMNEE's.",
+        scene.render.once_more_samples,
+        1u32 << max_log2,
     );
-    panels.push(a.iter().zip(b).map(|(x, y)| 0.5 * (x + y)).collect());
-    let gap = 4usize;
-    let (pw, ph) = (w as usize, h as usize);
-    let total_w = panels.len() * pw + (panels.len() - 1) * gap;
-    let mut canvas = vec![255u8; total_w * ph * 3];
-    for (k, panel) in panels.iter().enumerate() {
-        let (srgb, _) = tone_map(panel, Some(ev));
-        for y in 0..ph {
-            for x in 0..pw {
-                for c in 0..3 {
-                    canvas[(y * total_w + k * (pw + gap) + x) * 3 + c] = srgb[(y * pw + x) * 3 + c];
-                }
-            }
-        }
-    }
-    let fig = docs_path("figures/underwater-equal-time.png");
-    write_png(&fig, total_w, ph, &canvas).expect("png");
-    let _ = writeln!(
-        md,
-        "\n`docs/figures/underwater-equal-time.png`: from left to right {} at about {budget} s CPU each \
-         (the largest power-of-two pass count within 1.5× of it), and the reference; one exposure for all.\n",
-        TECHS.iter().map(|t| t.0).collect::<Vec<_>>().join(", ")
+    equal_time(
+        &mut md,
+        &mut world,
+        Term::ShaftsOnceMore,
+        &LOBE,
+        LOBE[1].1,
+        &intro,
+        "underwater-shafts-once-more",
+        &rest,
     );
+
     let out = docs_path("results/underwater.md");
     std::fs::write(&out, md).expect("write results");
-    println!("wrote {} and {}", out.display(), fig.display());
+    println!("wrote {}", out.display());
 }

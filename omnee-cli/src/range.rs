@@ -51,6 +51,10 @@ impl Range {
     pub const UNIT: Self = Self::closed(0.0, 1.0);
     /// `(0, π]`: the once-more integrand's restriction θmax.
     pub const THETA_MAX: Self = Self::open_closed(0.0, std::f64::consts::PI);
+    /// `[0, 1e20]`: emitted radiance, intensity and irradiance. The sun's
+    /// radiance is about 2e7 W/(m²·sr); the bound keeps every pixel sum of
+    /// the f32 renderers finite (f32 overflows at 3.4e38).
+    pub const EMISSION: Self = Self::closed(0.0, 1e20);
     /// `(−64, 64)`: a PNG exposure in stops.
     pub const EXPOSURE: Self = Self::open(-64.0, 64.0);
 
@@ -74,8 +78,18 @@ impl Range {
         if self.contains(x) {
             Ok(x)
         } else {
-            Err(CliError::range(field, x, self))
+            Err(CliError::range(field, number(x), self))
         }
+    }
+}
+
+/// A number as messages print it: plainly, or in scientific notation from
+/// 10⁹ on (`1e39`, not forty digits).
+fn number(x: f64) -> String {
+    if x.abs() >= 1e9 && x.is_finite() {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
     }
 }
 
@@ -90,7 +104,7 @@ impl fmt::Display for Range {
             } else if x == f64::NEG_INFINITY {
                 "-inf".to_string()
             } else {
-                format!("{x}")
+                number(x)
             }
         };
         write!(
@@ -121,6 +135,7 @@ mod tests {
         assert_eq!(Range::open_closed(0.0, 3.5).to_string(), "(0, 3.5]");
         assert_eq!(Range::NON_NEGATIVE.to_string(), "[0, inf)");
         assert_eq!(Range::FINITE.to_string(), "any finite number");
+        assert_eq!(Range::EMISSION.to_string(), "[0, 1e20]");
     }
 
     #[test]

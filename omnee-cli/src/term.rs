@@ -2,7 +2,7 @@
 //! (`--terms`, the scene's `render.terms`) and `direct` and `once-more` are
 //! the parts of `omnee probe`'s irradiance. The slab scene has `direct`,
 //! `once-more` and `view`; the underwater scene `caustics`,
-//! `caustics-once-more` and `shafts`.
+//! `caustics-once-more`, `shafts` and `shafts-once-more`.
 
 use crate::error::{CliError, Result};
 use clap::ValueEnum;
@@ -24,6 +24,8 @@ pub enum Term {
     CausticsOnceMore,
     /// underwater: sun -> surface -> a point on the refracted ray -> eye: the god rays
     Shafts,
+    /// underwater: sun -> surface -> x0 on the refracted ray -> x1 -> eye: the god rays' blur (the lobe at x0)
+    ShaftsOnceMore,
 }
 
 crate::names::display_by_name!(Term);
@@ -31,8 +33,20 @@ crate::names::display_by_name!(Term);
 /// The terms of the slab scene.
 pub const SLAB: [Term; 3] = [Term::Direct, Term::OnceMore, Term::View];
 
-/// The terms of the underwater scene.
-pub const UNDERWATER: [Term; 3] = [Term::Caustics, Term::CausticsOnceMore, Term::Shafts];
+/// The terms of the underwater scene, in the order of its layers.
+pub const UNDERWATER: [Term; 4] = [
+    Term::Caustics,
+    Term::CausticsOnceMore,
+    Term::Shafts,
+    Term::ShaftsOnceMore,
+];
+
+impl Term {
+    /// The position of this term in `terms` (a scene's list: its layer).
+    pub fn index_in(self, terms: &[Term]) -> Option<usize> {
+        terms.iter().position(|t| *t == self)
+    }
+}
 
 /// Checks that every term of `terms` (given as `field`) is one of
 /// `allowed`, the terms of `scene`.
@@ -59,11 +73,13 @@ mod tests {
     fn names_are_the_documented_ones_in_order() {
         assert_eq!(
             names::allowed::<Term>(),
-            "direct, once-more, view, caustics, caustics-once-more, shafts"
+            "direct, once-more, view, caustics, caustics-once-more, shafts, shafts-once-more"
         );
         assert_eq!(names::parse::<Term>("once-more"), Some(Term::OnceMore));
         assert_eq!(names::parse::<Term>("Once-More"), None);
         assert_eq!(Term::View.to_string(), "view");
         assert!(Term::Direct < Term::OnceMore && Term::OnceMore < Term::View);
+        assert_eq!(Term::Shafts.index_in(&UNDERWATER), Some(2));
+        assert_eq!(Term::View.index_in(&UNDERWATER), None);
     }
 }

@@ -8,6 +8,9 @@
 //! - the once-more splat from one known floor point, summed over the image
 //!   with each pixel's solid angle, equals the core's quadrature of the
 //!   point-to-point integral, for omnee, equiangular and mis;
+//! - the shafts-once-more splat from one vertex in the water, with the phase
+//!   function's lobe about the sun's direction there, equals the core's 3-D
+//!   quadrature of the lobe-to-point integral, for omnee and lobe-mis;
 //! - splatting is deterministic whatever the thread count, and crops sum to
 //!   the image.
 //!
@@ -23,7 +26,8 @@ use omnee_cli::render::budget::Budget;
 use omnee_cli::rng::Rng;
 use omnee_cli::underwater::render::{Options, render};
 use omnee_cli::underwater::scene::UnderwaterScene;
-use omnee_cli::underwater::transport::{OnceMoreTech, Splat, Stats, Term, World};
+use omnee_cli::underwater::transport::{LobeTech, OnceMoreTech, Splat, Stats, Term, World};
+use omnee_core::lobe::{LobeToPoint, PhaseLobe};
 use omnee_core::medium::Homogeneous;
 use omnee_core::phase::{Deflection, PhaseFunction};
 use omnee_core::reference::PointToPoint;
@@ -290,11 +294,12 @@ fn shafts_splat_equals_single_scattering_of_the_refracted_beam() {
     }
 }
 
-#[test]
-fn once_more_splat_from_one_floor_point_equals_the_quadrature() {
-    // x0 on the floor 10 m down, the eye 3.6 m away looking at it; θ < 0.4
-    // keeps every x1 within the image and under the surface.
-    let text = r#"
+/// Flat water over a floor 10 m down, HG 0.8, the eye 3.6 m from the
+/// floor point it looks at, the once-more integrand restricted to θ < 0.4;
+/// only `term` rendered.
+fn deep_scene(term: &str) -> UnderwaterScene {
+    UnderwaterScene::parse(&format!(
+        r#"
 [sun]
 [surface]
 kind = "flat"
@@ -309,10 +314,54 @@ position = [0.0, -3.0, -8.0]
 look_at = [0.0, 0.0, -10.0]
 fov = 60.0
 [render]
-terms = ["caustics-once-more"]
+terms = ["{term}"]
 theta_max = 0.4
-"#;
-    let scene = UnderwaterScene::parse(text).unwrap();
+"#
+    ))
+    .unwrap()
+}
+
+/// Mean and standard error over 400 000 draws of `draw`'s splats summed over
+/// the image, each times its pixel's solid angle `A_pix cos³θ_j`: one
+/// draw's estimate of the integral over the image (the importance is
+/// `W_j = 1/(A_pix cos³θ)`).
+fn over_the_image(
+    world: &World<'_>,
+    seed: u64,
+    stream: u64,
+    mut draw: impl FnMut(&mut Rng, &mut Vec<Splat>, &mut Stats),
+) -> (DVec3, DVec3) {
+    let cam = world.camera;
+    let w = cam.width;
+    let solid = |pixel: u32| {
+        let (x, y) = ((pixel % w) as f32 + 0.5, (pixel / w) as f32 + 0.5);
+        let (_, _, cos) = cam.image_point(cam.ray(x, y)).unwrap();
+        (cam.pixel_area() * cos * cos * cos) as f64
+    };
+    let n = 400_000;
+    let mut rng = Rng::stream(seed, stream, 0);
+    let (mut s1, mut s2) = (DVec3::ZERO, DVec3::ZERO);
+    let mut out = Vec::new();
+    let mut stats = Stats::default();
+    for _ in 0..n {
+        out.clear();
+        draw(&mut rng, &mut out, &mut stats);
+        let v: DVec3 = out
+            .iter()
+            .map(|s| s.value.as_dvec3() * solid(s.pixel))
+            .sum();
+        s1 += v;
+        s2 += v * v;
+    }
+    let mean = s1 / n as f64;
+    (mean, ((s2 / n as f64 - mean * mean) / n as f64).sqrt())
+}
+
+#[test]
+fn once_more_splat_from_one_floor_point_equals_the_quadrature() {
+    // x0 on the floor 10 m down, the eye 3.6 m away looking at it; θ < 0.4
+    // keeps every x1 within the image and under the surface.
+    let scene = deep_scene("caustics-once-more");
     let x0 = Vec3::new(0.0, 0.0, -10.0);
     let radiance = Vec3::new(2.0, 3.0, 5.0);
     let theta_max = 0.4;
@@ -340,32 +389,9 @@ theta_max = 0.4
         let phase = scene.phase.instantiate(&mut storage).unwrap();
         let mut world = World::new(&scene, phase, w, h);
         world.once_more.tech = tech;
-        let cam = world.camera;
-        // Σ_j value_j · A_pix cos³θ_j per draw: each draw's estimate of the
-        // integral over the image (the importance W_j = 1/(A_pix cos³θ)).
-        let solid = |pixel: u32| {
-            let (x, y) = ((pixel % w) as f32 + 0.5, (pixel / w) as f32 + 0.5);
-            let d = cam.ray(x, y);
-            let (_, _, cos) = cam.image_point(d).unwrap();
-            (cam.pixel_area() * cos * cos * cos) as f64
-        };
-        let n = 400_000;
-        let mut rng = Rng::stream(21, tech as u64, 0);
-        let (mut s1, mut s2) = (DVec3::ZERO, DVec3::ZERO);
-        let mut out = Vec::new();
-        let mut stats = Stats::default();
-        for _ in 0..n {
-            out.clear();
-            world.caustic_once_more(x0, radiance, &mut rng, &mut out, &mut stats);
-            let v: DVec3 = out
-                .iter()
-                .map(|s| s.value.as_dvec3() * solid(s.pixel))
-                .sum();
-            s1 += v;
-            s2 += v * v;
-        }
-        let mean = s1 / n as f64;
-        let se = ((s2 / n as f64 - mean * mean) / n as f64).sqrt();
+        let (mean, se) = over_the_image(&world, 21, tech as u64, |rng, out, stats| {
+            world.caustic_once_more(x0, radiance, rng, out, stats)
+        });
         for c in 0..3 {
             // Pixel-centre cosines: a relative error of order (pixel angle)² ≈ 2e-5.
             assert!(
@@ -385,6 +411,61 @@ theta_max = 0.4
             };
             assert!(
                 se[c] < max_rel_se * want[c],
+                "{tech:?}: se {} of {}",
+                se[c],
+                want[c]
+            );
+        }
+    }
+}
+
+#[test]
+fn shafts_once_more_splat_from_one_vertex_equals_the_lobe_quadrature() {
+    // x0 in the water on the camera's axis, 2.7 m from the eye; the sun's
+    // light arrives there 0.5 rad off the axis x0 → eye, where the HG 0.8
+    // lobe is a fourteenth of its peak, so lobe-mis draws the lobe technique
+    // for about half its samples. θ < 0.4 keeps every x1 in the image and
+    // above the floor.
+    let scene = deep_scene("shafts-once-more");
+    let eye = scene.camera.position;
+    let x0 = eye + (scene.camera.look_at - eye) * 0.75;
+    let axis = (eye - x0).normalize();
+    let incoming = (axis * 0.5f32.cos() + Vec3::X * 0.5f32.sin()).normalize();
+    let flux = Vec3::new(2.0, 3.0, 5.0);
+    let theta_max = 0.4;
+    let hg = omnee_core::phase::HenyeyGreenstein::new(0.8).unwrap();
+    let want: DVec3 = DVec3::from_array(std::array::from_fn(|c| {
+        let medium = Homogeneous::from_extinction(
+            scene.water.sigma_s[c] as f64,
+            scene.water.sigma_t[c] as f64,
+        )
+        .unwrap();
+        let conn = Connection::new(x0.as_dvec3(), eye.as_dvec3(), theta_max).unwrap();
+        let point = PointToPoint::new(conn, medium, None).unwrap();
+        let lobe = PhaseLobe::new(hg, incoming.as_dvec3()).unwrap();
+        flux[c] as f64 * LobeToPoint::new(point, Some(lobe)).unwrap().integral(&hg)
+    }));
+    for tech in [LobeTech::Omnee, LobeTech::LobeMis] {
+        let (w, h) = (160u32, 120u32);
+        let mut storage = TableStorage::<f32>::default();
+        let phase = scene.phase.instantiate(&mut storage).unwrap();
+        let mut world = World::new(&scene, phase, w, h);
+        world.lobe = tech;
+        let (mean, se) = over_the_image(&world, 23, tech as u64, |rng, out, stats| {
+            world.shaft_once_more(x0, incoming, flux, rng, out, stats)
+        });
+        for c in 0..3 {
+            assert!(
+                (mean[c] - want[c]).abs() < 5.3 * se[c] + 1e-3 * want[c],
+                "{tech:?} channel {c}: splat {} ± {}, quadrature {}",
+                mean[c],
+                se[c],
+                want[c]
+            );
+            // Dropping the lobe (a factor between 0.02 and 3.6 here) or a
+            // wrong mixture density moves the mean by far more than this.
+            assert!(
+                se[c] < 0.01 * want[c],
                 "{tech:?}: se {} of {}",
                 se[c],
                 want[c]
@@ -457,7 +538,7 @@ fn bad_scene_input_names_the_field_and_its_range() {
         (
             "irradiance = 1000.0",
             "irradiance = -5.0",
-            &["sun.irradiance = -5", "[0, inf)"],
+            &["sun.irradiance = -5", "[0, 1e20]"],
         ),
         ("ior = 1.33", "ior = 0.9", &["surface.ior = 0.9", "[1, 3]"]),
         (

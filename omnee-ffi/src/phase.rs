@@ -1,6 +1,10 @@
 //! `omnee_phase_*`: phase functions from parameters, spec strings or
 //! caller-owned tables, and their evaluation; `omnee_deflection_*`: angles in
 //! cancellation-free form.
+//!
+//! The file is long by the ABI's shape: every constructor and evaluation
+//! exists as a documented `extern "C"` function in f32 and in f64 (the
+//! header carries their doc comments), each a few lines over one generic body.
 
 use crate::args::{finite, object, required};
 use crate::boundary::{c_str, slice, slice_mut};

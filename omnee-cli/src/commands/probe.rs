@@ -12,7 +12,7 @@ use crate::rng::Rng;
 use crate::scene::{self, Scene};
 use crate::stats::Stats;
 use crate::technique::{self, OnceMore, Technique};
-use crate::term::Term;
+use crate::term::{self, Term};
 use crate::world::{Roulette, World};
 use clap::Args;
 use glam::Vec3;
@@ -32,7 +32,8 @@ pub struct ProbeArgs {
     /// The receiver's normal X,Y,Z (need not be unit length).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, default_value = "0,0,1")]
     pub normal: [f64; 3],
-    /// Comma-separated terms: direct, once-more (view belongs to a camera ray).
+    /// Comma-separated terms: direct, once-more (view belongs to a camera
+    /// ray, caustics, caustics-once-more and shafts to the underwater scene).
     #[arg(
         long,
         value_enum,
@@ -61,6 +62,18 @@ pub struct ProbeArgs {
     pub json: bool,
 }
 
+/// The terms a probe estimates: the parts of the irradiance at a point.
+const PROBE_TERMS: [Term; 2] = [Term::Direct, Term::OnceMore];
+
+/// `terms` as a comma-separated list of their names.
+fn names(terms: &[Term]) -> String {
+    terms
+        .iter()
+        .map(Term::to_string)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// The sums of one chunk: direct, once-more, their total, the counters.
 type Chunk = (Moments, Moments, Moments, Stats);
 
@@ -69,9 +82,12 @@ pub fn run(a: ProbeArgs) -> Result<()> {
     let scene = Scene::from_source(&a.scene)?;
     let samples = check_count("--samples", a.samples)?;
     let n = unit_normal("--normal", a.normal)?;
-    if let Some(t) = a.terms.iter().find(|t| **t == Term::View) {
+    if let Some(t) = a.terms.iter().find(|t| !PROBE_TERMS.contains(t)) {
         return Err(CliError::Input(format!(
-            "--terms = \"{t}\" is not a probe term; allowed: direct, once-more (view belongs to a camera ray)"
+            "--terms = \"{t}\" is not a probe term; allowed: {} (view belongs to a camera ray; {} to the \
+             underwater scene, which is light traced)",
+            names(&PROBE_TERMS),
+            names(&term::UNDERWATER),
         )));
     }
     let direct = a.terms.contains(&Term::Direct);

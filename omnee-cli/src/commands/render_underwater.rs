@@ -12,7 +12,7 @@ use crate::technique::Technique;
 use crate::term::{self, Term};
 use crate::underwater::render::{self, Rendered};
 use crate::underwater::scene::{TechniqueChoice, UnderwaterScene};
-use crate::underwater::transport::{OnceMoreTech, World};
+use crate::underwater::transport::{OnceMoreTech, TERMS, World};
 use crate::underwater::{choose_technique, skip_notes};
 use omnee_core::phase::PhaseFunction;
 
@@ -105,7 +105,7 @@ pub fn run(a: RenderArgs, mut scene: UnderwaterScene) -> Result<()> {
             println!("{line}");
         }
     };
-    if world.terms[crate::underwater::transport::Term::CausticsOnceMore as usize] {
+    if world.enabled(Term::CausticsOnceMore) {
         match &reason {
             Some(r) => say(&format!(
                 "technique: auto picked {}: {r}",
@@ -145,14 +145,12 @@ pub fn run(a: RenderArgs, mut scene: UnderwaterScene) -> Result<()> {
         ));
         say(&format!(
             "light paths {}: outside the lit region {}, lost at the surface {}, on the floor {}; \
-             splats: caustics {}, caustics-once-more {}, shafts {}; no once-more vertex {}; wave-band tests {}",
+             splats: {}; no once-more vertex {}; wave-band tests {}",
             st.paths,
             st.outside_region,
             st.lost_at_surface,
             st.floor_hits,
-            st.splats[0],
-            st.splats[1],
-            st.splats[2],
+            st.splats_by_term(),
             st.no_vertex,
             st.surface_tests
         ));
@@ -194,7 +192,8 @@ fn summary_json(
         "stats": {
             "paths": st.paths, "outside_region": st.outside_region,
             "lost_at_surface": st.lost_at_surface, "floor_hits": st.floor_hits,
-            "splats": {"caustics": st.splats[0], "caustics-once-more": st.splats[1], "shafts": st.splats[2]},
+            "splats": TERMS.iter().zip(st.splats).map(|(t, n)| (t.to_string(), serde_json::json!(n)))
+                .collect::<serde_json::Map<_, _>>(),
             "no_vertex": st.no_vertex, "surface_tests": st.surface_tests,
         },
         "exr": set.exr.as_ref().map(|p| p.display().to_string()),

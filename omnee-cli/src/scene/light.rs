@@ -48,7 +48,7 @@ impl Light {
         let center = l.vector("center", None, Range::FINITE)?;
         let radius = l.number("radius", Some(0.0), Range::NON_NEGATIVE)?;
         let light = if radius > 0.0 {
-            let radiance = l.number("radiance", None, Range::NON_NEGATIVE)?;
+            let radiance = l.number("radiance", None, Range::EMISSION)?;
             if l.has("intensity") {
                 return Err(CliError::Input(
                     "light.intensity is only for a point light (radius = 0); allowed: radiance for a sphere".into(),
@@ -61,7 +61,7 @@ impl Light {
                     "light.radiance needs a sphere (radius > 0); allowed: intensity for a point light".into(),
                 ));
             }
-            Light::point(center, l.number("intensity", None, Range::NON_NEGATIVE)?)
+            Light::point(center, l.number("intensity", None, Range::EMISSION)?)
         };
         l.known("radiance");
         l.known("intensity");

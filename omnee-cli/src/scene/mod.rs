@@ -17,6 +17,7 @@ pub use floor::Floor;
 pub use light::Light;
 pub use medium::Medium;
 pub use occluder::{Occluder, Pattern};
+pub(crate) use section::Section;
 pub use settings::{RenderSettings, TERMS};
 
 use crate::error::{CliError, Result};

@@ -9,8 +9,8 @@ use clap::ValueEnum;
 use std::collections::BTreeSet;
 
 /// One table of the TOML document, with the keys read so far.
-pub(super) struct Section<'a> {
-    name: &'static str,
+pub(crate) struct Section<'a> {
+    name: String,
     table: Option<&'a toml::Table>,
     used: BTreeSet<&'static str>,
 }
@@ -20,7 +20,7 @@ impl<'a> Section<'a> {
     /// its default, a required key is reported missing).
     pub fn required(root: &'a toml::Table, name: &'static str) -> Result<Self> {
         Ok(Self::optional(root, name)?.unwrap_or(Self {
-            name,
+            name: name.to_string(),
             table: None,
             used: BTreeSet::new(),
         }))
@@ -30,14 +30,20 @@ impl<'a> Section<'a> {
     pub fn optional(root: &'a toml::Table, name: &'static str) -> Result<Option<Self>> {
         match root.get(name) {
             None => Ok(None),
-            Some(toml::Value::Table(t)) => Ok(Some(Self {
-                name,
-                table: Some(t),
-                used: BTreeSet::new(),
-            })),
+            Some(toml::Value::Table(t)) => Ok(Some(Self::of(t, name.to_string()))),
             Some(v) => Err(CliError::Input(format!(
                 "{name} = {v} is not a table; allowed: a [{name}] section"
             ))),
+        }
+    }
+
+    /// The table `table`, named `name` in messages (an item of an array of
+    /// tables: `surface.waves[2]`).
+    pub fn of(table: &'a toml::Table, name: String) -> Self {
+        Self {
+            name,
+            table: Some(table),
+            used: BTreeSet::new(),
         }
     }
 
@@ -128,6 +134,44 @@ impl<'a> Section<'a> {
             }
         }
         Ok(out)
+    }
+
+    /// An RGB value: an array of 3 numbers (R, G, B), or one number for all
+    /// three, each in `range`.
+    pub fn rgb(
+        &mut self,
+        key: &'static str,
+        default: Option<[f64; 3]>,
+        range: Range,
+    ) -> Result<[f64; 3]> {
+        let field = self.field(key);
+        let allowed = format!("a number or an array of 3 numbers (R, G, B), each {range}");
+        let x = match self.get(key) {
+            None => None,
+            Some(toml::Value::Float(x)) => Some(*x),
+            Some(toml::Value::Integer(i)) => Some(*i as f64),
+            Some(_) => {
+                return self
+                    .vector(key, default, range)
+                    .map_err(|_| self.rgb_error(key, &allowed));
+            }
+        };
+        match x {
+            None => default
+                .ok_or_else(|| CliError::Input(format!("{field} is missing; allowed: {allowed}"))),
+            Some(x) if range.contains(x) => Ok([x; 3]),
+            Some(_) => Err(self.rgb_error(key, &allowed)),
+        }
+    }
+
+    /// `key`'s value out of range for [`Self::rgb`].
+    fn rgb_error(&self, key: &str, allowed: &str) -> CliError {
+        let v = self.table.and_then(|t| t.get(key));
+        let shown = v.map(|v| v.to_string()).unwrap_or_default();
+        CliError::Input(format!(
+            "{} = {shown} is out of range; allowed: {allowed}",
+            self.field(key)
+        ))
     }
 
     /// A string, `default` when left out (`allowed` describes it in errors).

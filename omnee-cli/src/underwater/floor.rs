@@ -3,8 +3,8 @@
 
 use glam::{Vec2, Vec3};
 
-/// The floor's albedo pattern.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// The floor's albedo pattern (`floor.pattern`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum FloorPattern {
     /// Squares of edge `size`: `albedo_a` where `⌊x/size⌋ + ⌊y/size⌋` is
     /// even, `albedo_b` elsewhere.

@@ -7,16 +7,16 @@
 //! so light is traced from the sun ([`transport`]) and each floor point `x0`
 //! is connected to the eye directly (`caustics`), once more through a vertex
 //! `x1` in the water (`caustics-once-more`), and points on the refracted
-//! sun rays are connected to the eye (`shafts`).
+//! sun rays are connected to the eye directly (`shafts`) and once more
+//! (`shafts-once-more`, with the phase function's lobe at those points).
 //!
 //! Modules, one per idea: [`surface`] (the waves and ray marching),
 //! [`optics`] (refraction and Fresnel), [`sun`], [`water`] (chromatic
-//! coefficients and distance sampling), [`floor`], [`camera`] (the pixel
-//! measurement and the importance derived from it), [`transport`] (the light
-//! paths and the three terms), [`render`] (the deterministic splatting loop)
-//! and [`scene`] (the scene file).
+//! coefficients and distance sampling), [`floor`], [`transport`] (the light
+//! paths and the four terms), [`render`] (the deterministic splatting loop)
+//! and [`scene`] (the scene file); the camera, the pixel measurement and the
+//! importance derived from it are the CLI's one pinhole, [`crate::camera`].
 
-pub mod camera;
 pub mod floor;
 pub mod optics;
 pub mod render;
@@ -26,8 +26,8 @@ pub mod surface;
 pub mod transport;
 pub mod water;
 
+use crate::camera::Pinhole;
 use crate::technique;
-use camera::Pinhole;
 use omnee_core::phase::{Phase, PhaseFunction};
 use scene::{TechniqueChoice, UnderwaterScene};
 use transport::{OnceMore, OnceMoreTech, World};
@@ -53,9 +53,10 @@ pub fn choose_technique(scene: &UnderwaterScene, g: f64) -> (OnceMoreTech, Strin
 pub fn skip_notes(scene: &UnderwaterScene) -> Vec<String> {
     let mut notes = Vec::new();
     let r = &scene.render.terms;
-    if !scene.water.scatters() && (r[1] || r[2]) {
+    if !scene.water.scatters() && r[1..].iter().any(|on| *on) {
         notes.push(
-            "water.sigma_s = 0: caustics-once-more and shafts skipped (no scattering)".to_string(),
+            "water.sigma_s = 0: caustics-once-more, shafts and shafts-once-more skipped (no scattering)"
+                .to_string(),
         );
     }
     if scene.surface.is_flat() {
@@ -80,10 +81,10 @@ impl<'a> World<'a> {
         };
         let mut terms = r.terms;
         if !scene.water.scatters() {
-            terms[1] = false;
-            terms[2] = false;
+            // Only `caustics` needs no scattering.
+            terms = [terms[0], false, false, false];
         }
-        let camera = Pinhole::new(c.position, c.look_at, c.up, c.fov, width, height);
+        let camera = Pinhole::looking_at(c.position, c.look_at, c.up, c.fov, width, height);
         let mut world = World {
             sun: scene.sun,
             surface: scene.surface.clone(),
@@ -114,6 +115,7 @@ impl<'a> World<'a> {
                 mis_theta_min: r.mis_theta_min as f32,
             },
             shafts: r.shafts,
+            lobe: r.shafts_once_more,
             samples: [r.once_more_samples, r.shaft_samples],
         };
         let aim = transport::Aim {
@@ -139,7 +141,7 @@ mod tests {
         assert!(notes.iter().any(|n| n.contains("sigma_s = 0")), "{notes:?}");
         let mut storage = crate::phase::TableStorage::<f32>::default();
         let w = World::new(&s, s.phase.instantiate(&mut storage).unwrap(), 16, 12);
-        assert_eq!(w.terms, [true, false, false]);
+        assert_eq!(w.terms, [true, false, false, false]);
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! fixed chunks, their splats added in chunk order, so that the image depends
 //! on the seed and never on the thread count.
 
-use super::transport::{Splat, Stats, Term, World};
+use super::transport::{Splat, Stats, TERMS, World, layer};
 use crate::image::Layers;
 use crate::render::budget::Budget;
 use crate::render::progress::Progress;
@@ -67,7 +67,7 @@ pub fn render(world: &World<'_>, opt: &Options) -> Rendered {
     let (w, h) = (cam.width as usize, cam.height as usize);
     let paths_per_pass = (w * h) as u64;
     let chunks = paths_per_pass.div_ceil(CHUNK);
-    let mut acc = vec![[0.0f64; 9]; w * h];
+    let mut acc = vec![[0.0f64; 3 * TERMS.len()]; w * h];
     let mut stats = Stats::default();
     let progress = opt.progress.then(|| Progress::start(opt.budget, chunks));
     let [cx0, cy0, cx1, cy1] = opt.crop.map(|v| v as usize);
@@ -91,7 +91,7 @@ pub fn render(world: &World<'_>, opt: &Options) -> Rendered {
                 if x >= cx0 && x < cx1 && y >= cy0 && y < cy1 {
                     let a = &mut acc[s.pixel as usize];
                     for j in 0..3 {
-                        a[3 * s.term as usize + j] += s.value[j] as f64;
+                        a[3 * layer(s.term) + j] += s.value[j] as f64;
                     }
                 }
             }
@@ -115,8 +115,7 @@ pub fn render(world: &World<'_>, opt: &Options) -> Rendered {
     let inv = 1.0 / (paths_per_pass as f64 * pass as f64);
     let mut sum = vec![0.0f32; w * h * 3];
     let mut layers = vec![(String::new(), Vec::new())];
-    for term in Term::ALL {
-        let k = term as usize;
+    for (k, term) in TERMS.into_iter().enumerate() {
         if !world.terms[k] {
             continue;
         }
@@ -127,7 +126,7 @@ pub fn render(world: &World<'_>, opt: &Options) -> Rendered {
         for (s, v) in sum.iter_mut().zip(&data) {
             *s += v;
         }
-        layers.push((term.name().to_string(), data));
+        layers.push((term.to_string(), data));
     }
     layers[0].1 = sum;
     Rendered {

@@ -6,13 +6,16 @@
 use super::floor::{Floor, FloorPattern};
 use super::sun::Sun;
 use super::surface::{Surface, Wave, WaveKind};
-use super::transport::{OnceMoreTech, ShaftSampling, Term};
+use super::transport::{LobeTech, OnceMoreTech, ShaftSampling, TERMS, layer};
 use super::water::Water;
 use crate::error::{CliError, Result};
 use crate::phase::PhaseSpec;
 use crate::range::Range;
+use crate::scene::Section;
+use crate::technique::Technique;
+use crate::term::Term;
+use clap::ValueEnum;
 use glam::{Vec2, Vec3};
-use std::collections::BTreeSet;
 
 /// The built-in underwater scene, as shipped in `omnee-cli/scenes/underwater.toml`.
 pub const UNDERWATER_SCENE: &str = include_str!("../../scenes/underwater.toml");
@@ -51,7 +54,7 @@ pub struct RenderSettings {
     /// Random seed.
     pub seed: u64,
     /// The terms to evaluate, in layer order.
-    pub terms: [bool; 3],
+    pub terms: [bool; 4],
     /// The once-more technique.
     pub technique: TechniqueChoice,
     /// The once-more integrand's restriction θ < θmax (radians).
@@ -62,9 +65,12 @@ pub struct RenderSettings {
     pub mis_theta_min: f64,
     /// How the shafts' vertex is placed.
     pub shafts: ShaftSampling,
+    /// The technique for `shafts-once-more`'s vertex `x1`.
+    pub shafts_once_more: LobeTech,
     /// Once-more draws per floor point.
     pub once_more_samples: u32,
-    /// Shaft vertices per refracted sun ray.
+    /// Shaft vertices for a refracted sun ray whose image spans the field of
+    /// view; proportionally fewer (at least one) for shorter ones.
     pub shaft_samples: u32,
     /// Growth of the lit region around what the camera sees (m).
     pub margin: f64,
@@ -101,169 +107,24 @@ pub struct UnderwaterScene {
     pub render: RenderSettings,
 }
 
-/// One table of the document with the keys read so far.
-struct Table<'a> {
-    name: String,
-    table: Option<&'a toml::Table>,
-    used: BTreeSet<&'static str>,
-}
-
 fn input(msg: String) -> CliError {
     CliError::Input(msg)
 }
 
-impl<'a> Table<'a> {
-    fn section(root: &'a toml::Table, name: &str) -> Result<Self> {
-        let table = match root.get(name) {
-            None => None,
-            Some(toml::Value::Table(t)) => Some(t),
-            Some(v) => {
-                return Err(input(format!(
-                    "{name} = {v} is not a table; allowed: a [{name}] section"
-                )));
-            }
-        };
-        Ok(Self {
-            name: name.to_string(),
-            table,
-            used: BTreeSet::new(),
-        })
-    }
-
-    fn field(&self, key: &str) -> String {
-        format!("{}.{key}", self.name)
-    }
-
-    fn get(&mut self, key: &'static str) -> Option<&'a toml::Value> {
-        self.used.insert(key);
-        self.table.and_then(|t| t.get(key))
-    }
-
-    fn number(&mut self, key: &'static str, default: Option<f64>, range: Range) -> Result<f64> {
-        let field = self.field(key);
-        let x = match self.get(key) {
-            None => {
-                default.ok_or_else(|| input(format!("{field} is missing; allowed: {range}")))?
-            }
-            Some(v) => as_number(v)
-                .ok_or_else(|| input(format!("{field} = {v} is not a number; allowed: {range}")))?,
-        };
-        range.check(&field, x)
-    }
-
-    fn integer(&mut self, key: &'static str, default: i64, lo: i64, hi: i64) -> Result<i64> {
-        let field = self.field(key);
-        match self.get(key) {
-            None => Ok(default),
-            Some(toml::Value::Integer(i)) if (lo..=hi).contains(i) => Ok(*i),
-            Some(v) => Err(input(format!(
-                "{field} = {v} is out of range; allowed: an integer in [{lo}, {hi}]"
-            ))),
-        }
-    }
-
-    /// Three numbers, each in `range`.
-    fn vector(
-        &mut self,
-        key: &'static str,
-        default: Option<[f64; 3]>,
-        range: Range,
-    ) -> Result<Vec3> {
-        let field = self.field(key);
-        let allowed = format!("an array of 3 numbers, each {range}");
-        match self.get(key) {
-            None => default
-                .map(|[x, y, z]| Vec3::new(x as f32, y as f32, z as f32))
-                .ok_or_else(|| input(format!("{field} is missing; allowed: {allowed}"))),
-            Some(v) => array3(v, range)
-                .ok_or_else(|| input(format!("{field} = {v} is out of range; allowed: {allowed}"))),
-        }
-    }
-
-    /// An RGB value: three numbers, or one for all channels, each in `range`.
-    fn rgb(&mut self, key: &'static str, default: Option<[f64; 3]>, range: Range) -> Result<Vec3> {
-        let field = self.field(key);
-        let allowed = format!("a number or an array of 3 numbers (R, G, B), each {range}");
-        match self.get(key) {
-            None => default
-                .map(|[x, y, z]| Vec3::new(x as f32, y as f32, z as f32))
-                .ok_or_else(|| input(format!("{field} is missing; allowed: {allowed}"))),
-            Some(v) => match as_number(v) {
-                Some(x) if range.contains(x) => Ok(Vec3::splat(x as f32)),
-                Some(_) => Err(input(format!(
-                    "{field} = {v} is out of range; allowed: {allowed}"
-                ))),
-                None => array3(v, range).ok_or_else(|| {
-                    input(format!("{field} = {v} is out of range; allowed: {allowed}"))
-                }),
-            },
-        }
-    }
-
-    fn string(&mut self, key: &'static str, default: &str, allowed: &str) -> Result<String> {
-        let field = self.field(key);
-        match self.get(key) {
-            None => Ok(default.to_string()),
-            Some(toml::Value::String(s)) => Ok(s.clone()),
-            Some(v) => Err(input(format!(
-                "{field} = {v} is not a string; allowed: {allowed}"
-            ))),
-        }
-    }
-
-    /// One of `names` (the allowed values, in order), as its index.
-    fn choice(&mut self, key: &'static str, default: &str, names: &[&str]) -> Result<usize> {
-        let allowed = names.join(", ");
-        let s = self.string(key, default, &allowed)?;
-        names.iter().position(|n| *n == s).ok_or_else(|| {
-            input(format!(
-                "{} = \"{s}\" is not one of the names; allowed: {allowed}",
-                self.field(key)
-            ))
-        })
-    }
-
-    /// Fails on the first key that was never read.
-    fn finish(self) -> Result<()> {
-        if let Some(t) = self.table {
-            for (k, v) in t {
-                if !self.used.contains(k.as_str()) {
-                    return Err(input(format!(
-                        "{}.{k} = {v} is not a known field; allowed: {}",
-                        self.name,
-                        self.used.iter().copied().collect::<Vec<_>>().join(", ")
-                    )));
-                }
-            }
-        }
-        Ok(())
-    }
+/// `[x, y, z]` in f32.
+fn vec3([x, y, z]: [f64; 3]) -> Vec3 {
+    Vec3::new(x as f32, y as f32, z as f32)
 }
 
-fn as_number(v: &toml::Value) -> Option<f64> {
-    match v {
-        toml::Value::Float(x) => Some(*x),
-        toml::Value::Integer(i) => Some(*i as f64),
-        _ => None,
-    }
-}
-
-fn array3(v: &toml::Value, range: Range) -> Option<Vec3> {
-    let toml::Value::Array(items) = v else {
-        return None;
-    };
-    if items.len() != 3 {
-        return None;
-    }
-    let mut out = [0.0f32; 3];
-    for (slot, item) in out.iter_mut().zip(items) {
-        let x = as_number(item)?;
-        if !range.contains(x) {
-            return None;
-        }
-        *slot = x as f32;
-    }
-    Some(Vec3::from_array(out))
+/// The surface's kind (`surface.kind`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum SurfaceKind {
+    /// No waves.
+    Flat,
+    /// A height field sum of sines.
+    Sine,
+    /// Trochoidal waves.
+    Gerstner,
 }
 
 const UNIT: Range = Range::closed(0.0, 1.0);
@@ -313,15 +174,15 @@ impl UnderwaterScene {
 }
 
 fn parse_sun(root: &toml::Table) -> Result<Sun> {
-    let mut s = Table::section(root, "sun")?;
-    let direction = s.vector("direction", Some([0.0, 0.0, 1.0]), Range::FINITE)?;
+    let mut s = Section::required(root, "sun")?;
+    let direction = vec3(s.vector("direction", Some([0.0, 0.0, 1.0]), Range::FINITE)?);
     if !(direction.z > 0.0) {
         return Err(input(format!(
             "sun.direction = {:?} is out of range; allowed: a vector with z > 0 (the sun above the horizon)",
             direction.to_array()
         )));
     }
-    let irradiance = s.number("irradiance", Some(1000.0), Range::NON_NEGATIVE)?;
+    let irradiance = s.number("irradiance", Some(1000.0), Range::EMISSION)?;
     let radius = s.number("angular_radius_deg", Some(0.27), Range::closed(0.0, 10.0))?;
     s.finish()?;
     Ok(Sun::new(
@@ -341,10 +202,10 @@ fn splitmix(state: &mut u64) -> u64 {
 }
 
 fn parse_surface(root: &toml::Table) -> Result<(Surface, f32)> {
-    let mut s = Table::section(root, "surface")?;
+    let mut s = Section::required(root, "surface")?;
     let z = s.number("z", Some(0.0), Range::FINITE)? as f32;
     let ior = s.number("ior", Some(1.33), Range::closed(1.0, 3.0))? as f32;
-    let kind = s.choice("kind", "flat", &["flat", "sine", "gerstner"])?;
+    let kind = s.choice("kind", SurfaceKind::Flat, "surface kind")?;
     let mut state = s.integer("seed", 1, 0, i64::MAX)? as u64;
     let waves_value = s.get("waves");
     s.finish()?;
@@ -357,7 +218,7 @@ fn parse_surface(root: &toml::Table) -> Result<(Surface, f32)> {
             )));
         }
     };
-    if kind == 0 {
+    if kind == SurfaceKind::Flat {
         if !items.is_empty() {
             return Err(input(
                 "surface.waves: kind = \"flat\" has no waves; allowed: kind = \"sine\" or \"gerstner\" with waves, or no [[surface.waves]]".into(),
@@ -372,9 +233,7 @@ fn parse_surface(root: &toml::Table) -> Result<(Surface, f32)> {
                 "surface.waves[{i}] = {item} is not a table; allowed: a [[surface.waves]] section"
             )));
         };
-        let mut root_i = toml::Table::new();
-        root_i.insert(format!("surface.waves[{i}]"), toml::Value::Table(t.clone()));
-        let mut w = Table::section(&root_i, &format!("surface.waves[{i}]"))?;
+        let mut w = Section::of(t, format!("surface.waves[{i}]"));
         let amplitude = w.number("amplitude", None, Range::NON_NEGATIVE)?;
         let wavelength = w.number("wavelength", None, Range::POSITIVE)?;
         let direction = w
@@ -392,7 +251,7 @@ fn parse_surface(root: &toml::Table) -> Result<(Surface, f32)> {
             phase: phase as f32,
         });
     }
-    let kind = if kind == 1 {
+    let kind = if kind == SurfaceKind::Sine {
         WaveKind::Sine
     } else {
         WaveKind::Gerstner
@@ -407,9 +266,9 @@ fn parse_surface(root: &toml::Table) -> Result<(Surface, f32)> {
 }
 
 fn parse_water(root: &toml::Table) -> Result<(Water, PhaseSpec)> {
-    let mut w = Table::section(root, "water")?;
-    let sigma_s = w.rgb("sigma_s", None, Range::NON_NEGATIVE)?;
-    let sigma_a = w.rgb("sigma_a", Some([0.0; 3]), Range::NON_NEGATIVE)?;
+    let mut w = Section::required(root, "water")?;
+    let sigma_s = vec3(w.rgb("sigma_s", None, Range::NON_NEGATIVE)?);
+    let sigma_a = vec3(w.rgb("sigma_a", Some([0.0; 3]), Range::NON_NEGATIVE)?);
     let phase_text = w.string("phase", "iso", "a phase spec such as iso or ff:0.0183,1.1")?;
     let phase = PhaseSpec::parse(&phase_text).map_err(|e| e.context("water.phase"))?;
     w.finish()?;
@@ -417,27 +276,24 @@ fn parse_water(root: &toml::Table) -> Result<(Water, PhaseSpec)> {
 }
 
 fn parse_floor(root: &toml::Table, surface: &Surface) -> Result<Floor> {
-    let mut f = Table::section(root, "floor")?;
+    let mut f = Section::required(root, "floor")?;
     let trough = surface.trough() as f64;
     let z = f.number("z", Some(-4.0), Range::open(f64::NEG_INFINITY, trough))? as f32;
-    let pattern = match f.choice("pattern", "sand", &["sand", "checker"])? {
-        0 => FloorPattern::Sand,
-        _ => FloorPattern::Checker,
-    };
+    let pattern = f.choice("pattern", FloorPattern::Sand, "floor pattern")?;
     let floor = Floor {
         z,
         pattern,
         size: f.number("size", Some(0.5), Range::POSITIVE)? as f32,
-        albedo_a: f.rgb("albedo_a", Some([0.75, 0.68, 0.5]), UNIT)?,
-        albedo_b: f.rgb("albedo_b", Some([0.55, 0.48, 0.34]), UNIT)?,
+        albedo_a: vec3(f.rgb("albedo_a", Some([0.75, 0.68, 0.5]), UNIT)?),
+        albedo_b: vec3(f.rgb("albedo_b", Some([0.55, 0.48, 0.34]), UNIT)?),
     };
     f.finish()?;
     Ok(floor)
 }
 
 fn parse_camera(root: &toml::Table, surface: &Surface, floor: &Floor) -> Result<CameraSpec> {
-    let mut c = Table::section(root, "camera")?;
-    let position = c.vector("position", None, Range::FINITE)?;
+    let mut c = Section::required(root, "camera")?;
+    let position = vec3(c.vector("position", None, Range::FINITE)?);
     let (lo, hi) = (floor.z as f64, surface.trough() as f64);
     if !(position.z as f64 > lo && (position.z as f64) < hi) {
         return Err(CliError::range(
@@ -448,8 +304,8 @@ fn parse_camera(root: &toml::Table, surface: &Surface, floor: &Floor) -> Result<
             ),
         ));
     }
-    let look_at = c.vector("look_at", Some([0.0, 0.0, floor.z as f64]), Range::FINITE)?;
-    let up = c.vector("up", Some([0.0, 0.0, 1.0]), Range::FINITE)?;
+    let look_at = vec3(c.vector("look_at", Some([0.0, 0.0, floor.z as f64]), Range::FINITE)?);
+    let up = vec3(c.vector("up", Some([0.0, 0.0, 1.0]), Range::FINITE)?);
     let fov = c.number("fov", Some(60.0), Range::open(0.0, 180.0))?;
     let width = c.integer("width", 480, 1, 16384)? as u32;
     let height = c.integer("height", 360, 1, 16384)? as u32;
@@ -478,26 +334,28 @@ fn parse_camera(root: &toml::Table, surface: &Surface, floor: &Floor) -> Result<
 }
 
 fn parse_render(root: &toml::Table) -> Result<RenderSettings> {
-    let mut r = Table::section(root, "render")?;
-    let term_names: Vec<&str> = Term::ALL.iter().map(|t| t.name()).collect();
+    let mut r = Section::required(root, "render")?;
+    let term_names: Vec<String> = TERMS.iter().map(Term::to_string).collect();
     let terms = match r.get("terms") {
-        None => [true; 3],
+        None => [true, true, true, false],
         Some(v) => parse_terms("render.terms", v, &term_names)?,
     };
-    let technique = match r.choice(
-        "technique",
-        "auto",
-        &["omnee", "equiangular", "mis", "auto"],
-    )? {
-        0 => TechniqueChoice::Fixed(OnceMoreTech::Omnee),
-        1 => TechniqueChoice::Fixed(OnceMoreTech::Equiangular),
-        2 => TechniqueChoice::Fixed(OnceMoreTech::Mis),
-        _ => TechniqueChoice::Auto,
+    // Every technique of the CLI but distance.
+    let allowed = "omnee, equiangular, mis, auto";
+    let name = r.string("technique", "auto", allowed)?;
+    let technique = match crate::names::parse::<Technique>(&name) {
+        Some(Technique::Omnee) => TechniqueChoice::Fixed(OnceMoreTech::Omnee),
+        Some(Technique::Equiangular) => TechniqueChoice::Fixed(OnceMoreTech::Equiangular),
+        Some(Technique::Mis) => TechniqueChoice::Fixed(OnceMoreTech::Mis),
+        Some(Technique::Auto) => TechniqueChoice::Auto,
+        Some(Technique::Distance) | None => {
+            return Err(input(format!(
+                "render.technique = \"{name}\" is not a technique of the underwater scene; allowed: {allowed}"
+            )));
+        }
     };
-    let shafts = ShaftSampling::from_name(
-        ShaftSampling::NAMES[r.choice("shafts", "mis", &ShaftSampling::NAMES)?],
-    )
-    .expect("a name from the list");
+    let shafts = r.choice("shafts", ShaftSampling::Mis, "shaft sampling")?;
+    let shafts_once_more = r.choice("shafts_once_more", LobeTech::LobeMis, "technique")?;
     let settings = RenderSettings {
         spp: r.integer("spp", 16, 1, 1 << 24)? as u32,
         seed: r.integer("seed", 1, 0, i64::MAX)? as u64,
@@ -515,12 +373,13 @@ fn parse_render(root: &toml::Table) -> Result<RenderSettings> {
             Range::closed(0.0, std::f64::consts::PI),
         )?,
         shafts,
+        shafts_once_more,
         once_more_samples: r.integer("once_more_samples", 4, 1, 1024)? as u32,
-        shaft_samples: r.integer("shaft_samples", 4, 1, 1024)? as u32,
+        shaft_samples: r.integer("shaft_samples", 16, 1, 1024)? as u32,
         margin: r.number("margin", Some(1.0), Range::NON_NEGATIVE)?,
         max_distance: r.number("max_distance", Some(30.0), Range::POSITIVE)?,
         camera_share: r.number("camera_share", Some(0.65), Range::closed(0.0, 1.0))?,
-        eye_share: r.number("eye_share", Some(0.1), Range::closed(0.0, 1.0))?,
+        eye_share: r.number("eye_share", Some(0.2), Range::closed(0.0, 1.0))?,
         eye_radius: r.number("eye_radius", Some(2.0), Range::POSITIVE)?,
         exposure: match r.get("exposure") {
             None => None,
@@ -544,24 +403,26 @@ fn parse_render(root: &toml::Table) -> Result<RenderSettings> {
 }
 
 /// A list of term names from `v`, as flags in layer order.
-pub fn parse_terms(field: &str, v: &toml::Value, names: &[&str]) -> Result<[bool; 3]> {
+pub fn parse_terms(field: &str, v: &toml::Value, names: &[String]) -> Result<[bool; 4]> {
     let allowed = format!("a non-empty list of {}", names.join(", "));
     let bad = || input(format!("{field} = {v} is out of range; allowed: {allowed}"));
     let toml::Value::Array(items) = v else {
         return Err(bad());
     };
-    let mut out = [false; 3];
+    let mut out = [false; 4];
     for item in items {
         let toml::Value::String(s) = item else {
             return Err(bad());
         };
-        let t = Term::from_name(s).ok_or_else(|| {
-            input(format!(
-                "{field} = \"{s}\" is not a term; allowed: {}",
-                names.join(", ")
-            ))
-        })?;
-        out[t as usize] = true;
+        let t = crate::names::parse::<Term>(s)
+            .filter(|t| TERMS.contains(t))
+            .ok_or_else(|| {
+                input(format!(
+                    "{field} = \"{s}\" is not a term; allowed: {}",
+                    names.join(", ")
+                ))
+            })?;
+        out[layer(t)] = true;
     }
     if items.is_empty() {
         return Err(bad());
@@ -598,6 +459,7 @@ mod tests {
                 "mis_rate",
                 "mis_theta_min",
                 "shafts",
+                "shafts_once_more",
                 "once_more_samples",
                 "shaft_samples",
                 "margin",
@@ -649,7 +511,7 @@ mod tests {
         assert_eq!(s.ior, 1.33);
         assert!(!s.surface.is_flat());
         assert_eq!(s.floor.z, -4.0);
-        assert_eq!(s.render.terms, [true; 3]);
+        assert_eq!(s.render.terms, [true, true, true, false]);
         assert_eq!(
             s.render.technique,
             TechniqueChoice::Fixed(OnceMoreTech::Mis)

@@ -104,6 +104,11 @@ impl EquiangularLine {
         })
     }
 
+    /// The angle `θb − θa` the segment subtends at `c`.
+    pub fn angle(&self) -> f32 {
+        self.theta_b - self.theta_a
+    }
+
     /// `t = Δ + D tan(θa + u (θb − θa))`.
     #[inline]
     pub fn sample(&self, u: f32) -> f32 {

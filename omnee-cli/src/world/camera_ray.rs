@@ -93,7 +93,9 @@ impl World<'_> {
                 }
                 // The underwater scene's terms: `render` refuses them for
                 // this scene (term::check) before any sample is drawn.
-                Term::Caustics | Term::CausticsOnceMore | Term::Shafts => Vec3::ZERO,
+                Term::Caustics | Term::CausticsOnceMore | Term::Shafts | Term::ShaftsOnceMore => {
+                    Vec3::ZERO
+                }
             };
         }
     }

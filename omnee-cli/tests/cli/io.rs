@@ -38,6 +38,12 @@ fn bad_input_names_field_value_and_range_exits_2_and_writes_nothing() {
             vec!["medium.colour", "not a known field"],
         ),
         (
+            // An emission the f32 image could not hold is refused up front.
+            vec![],
+            Box::new(|t| replace_line(&t, "radiance =", "radiance = 1e39")),
+            vec!["light.radiance = 1e39", "[0, 1e20]"],
+        ),
+        (
             vec![],
             Box::new(|t| replace_line(&t, "fov =", "fov = 200")),
             vec!["camera.fov = 200", "(0, 180)"],

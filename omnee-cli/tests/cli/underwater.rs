@@ -174,11 +174,16 @@ fn default_scene_underwater_prints_a_scene_that_renders_from_a_file() {
 #[test]
 fn bad_underwater_input_exits_2_naming_the_field_and_writes_nothing() {
     use omnee_cli::underwater::scene::UNDERWATER_SCENE;
-    let cases: [(&str, &str, &str); 5] = [
+    let cases: [(&str, &str, &str); 6] = [
         (
             "irradiance = 1000.0",
             "irradiance = -1.0",
             "sun.irradiance = -1",
+        ),
+        (
+            "irradiance = 1000.0",
+            "irradiance = 1e39",
+            "sun.irradiance = 1e39 is out of range; allowed: [0, 1e20]",
         ),
         ("ior = 1.33", "ior = 0.8", "surface.ior = 0.8"),
         ("kind = \"sine\"", "kind = \"gerstner\"", "fold"),
@@ -232,4 +237,30 @@ fn bad_underwater_input_exits_2_naming_the_field_and_writes_nothing() {
         "{}",
         stderr(&o)
     );
+}
+
+#[test]
+fn probe_rejects_the_underwater_terms_naming_the_field_and_the_allowed_ones() {
+    let dir = tempfile::tempdir().unwrap();
+    for term in ["caustics", "caustics-once-more", "shafts", "direct,shafts"] {
+        let o = run_in(
+            dir.path(),
+            &[
+                "probe",
+                "--point",
+                "0,0,0",
+                "--terms",
+                term,
+                "--samples",
+                "10",
+            ],
+        );
+        assert_eq!(o.status.code(), Some(2), "{term}");
+        let e = stderr(&o);
+        assert!(e.contains("--terms"), "{term}: {e}");
+        assert!(e.contains("allowed: direct, once-more"), "{term}: {e}");
+        assert!(e.contains("underwater"), "{term}: {e}");
+        assert!(stdout(&o).is_empty(), "{term}");
+        assert!(files_in(dir.path()).is_empty(), "{term}");
+    }
 }
