@@ -5,9 +5,11 @@
 //! What is measured, per criterion benchmark:
 //!
 //! - `sample/<f32|f64>/<technique>/<phase>`: a batch of [`BATCH`] uniform
-//!   triples (fixed, pseudo-random) through `Technique::sample(u)`, which
-//!   returns `x1` with its density and weight: what a renderer pays per
-//!   vertex. Time per iteration / `BATCH` is the cost of one sample.
+//!   triples through `Technique::sample(u)`, which returns `x1` with its
+//!   density and weight: what a renderer pays per vertex. Time per
+//!   iteration / `BATCH` is the cost of one sample. Each iteration takes the
+//!   next batch from a fixed pseudo-random pool of [`POOL`] triples, so that
+//!   no branch sees a sequence short enough to be learnt (see [`POOL`]).
 //! - `pdf/<f32|f64>/<technique>/<phase>`: `Technique::pdf(x1)` at the same
 //!   batch's vertices (precomputed), what MIS pays for the other techniques.
 //!
@@ -24,6 +26,10 @@
 //!   renderer pays when every camera vertex connects to a new light point.
 //! - `batch/f32/omnee/<hg>`: `Omnee::sample_batch`, the structure-of-arrays
 //!   entry point, on the batch's triples (compare `sample/f32/omnee/<hg>`).
+//! - `batch/f32/omnee-one/hg0.9`, `draw/f32/mis-{lazy,six}/hg0.9`,
+//!   `pdf/f32/equiangular-at-{point,vertex}/hg0.9`: issue 12's batch of one
+//!   vertex, `OmneeMis`'s lazy draw and the density at a vertex with its
+//!   offsets (see `issue12` below).
 //! - `slab/<technique>`: one call of `omnee_cli::world::World::once_more` on
 //!   the default scene (`omnee default-scene`) for 256 floor points: a light
 //!   point, the connection, the technique's vertex, closed-form
@@ -45,7 +51,8 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use omnee::medium::Region;
 use omnee::mis::OmneeMis;
 use omnee::phase::{
-    Draine, FournierForand, HenyeyGreenstein, Isotropic, Mie, PhaseFunction, Rayleigh, TwoTermHg,
+    Deflection, Draine, FournierForand, HenyeyGreenstein, InverseCdf, Isotropic, Mie,
+    PhaseFunction, Rayleigh, TableSampled, Tabulated, TwoTermHg,
 };
 use omnee::sampling::{Connection, Directions, Distance, Equiangular, Omnee, Technique};
 use omnee::{Real, Vector};
@@ -117,9 +124,40 @@ impl ValueFormatter for CpuFormatter {
 /// Samples per criterion iteration.
 const BATCH: usize = 256;
 
-/// `BATCH` uniform triples in `[0, 1)` from a fixed SplitMix64 stream.
+/// Inputs per pool: each iteration takes the next `BATCH` of them, so an
+/// input comes back only every `POOL / BATCH = 256` iterations. With a
+/// single batch repeated, the branch predictor learns the 256 outcomes of
+/// every branch in a sampler: libm's `sincosf` measured 3.8 ns on 4096
+/// repeated angles and 15.4 ns on 2²⁰ distinct ones here, and equiangular
+/// sampling 83 ns against 107 ns (a renderer never repeats its numbers).
+const POOL: usize = 1 << 16;
+
+/// A pool of inputs walked `BATCH` at a time, wrapping around.
+struct Pool<T> {
+    items: Vec<T>,
+    at: std::cell::Cell<usize>,
+}
+
+impl<T> Pool<T> {
+    fn new(items: Vec<T>) -> Self {
+        assert!(items.len() % BATCH == 0 && !items.is_empty());
+        Self {
+            items,
+            at: std::cell::Cell::new(0),
+        }
+    }
+
+    /// The next `BATCH` inputs.
+    fn next(&self) -> &[T] {
+        let i = self.at.get();
+        self.at.set((i + BATCH) % self.items.len());
+        &self.items[i..i + BATCH]
+    }
+}
+
+/// `POOL` uniform triples in `[0, 1)` from a fixed SplitMix64 stream.
 fn uniforms<F: Real>() -> Vec<[F; 3]> {
-    uniforms_n(BATCH)
+    uniforms_n(POOL)
 }
 
 /// `n` uniform triples of the same stream.
@@ -183,24 +221,27 @@ fn techniques<F: Real, P: PhaseFunction<F> + Copy>(
         ("distance", &distance),
     ];
     // mis draws six numbers: a triple and the next one.
-    let u6: Vec<[F; 6]> = (0..BATCH)
-        .map(|i| {
-            let (a, b) = (us[i], us[(i + 1) % BATCH]);
-            [a[0], a[1], a[2], b[0], b[1], b[2]]
-        })
-        .collect();
+    let u6 = Pool::new(
+        (0..POOL)
+            .map(|i| {
+                let (a, b) = (us[i], us[(i + 1) % POOL]);
+                [a[0], a[1], a[2], b[0], b[1], b[2]]
+            })
+            .collect(),
+    );
+    let us = Pool::new(us);
 
     let mut group = c.benchmark_group(format!("sample/{precision}"));
     group.throughput(Throughput::Elements(BATCH as u64));
     for (tech, t) in all {
         group.bench_function(BenchmarkId::new(tech, name), |b| {
-            b.iter(|| run_sample(t, &us))
+            b.iter(|| run_sample(t, us.next()))
         });
     }
     group.bench_function(BenchmarkId::new("mis", name), |b| {
         b.iter(|| {
             let mut acc = F::ZERO;
-            for &u in &u6 {
+            for &u in u6.next() {
                 for s in mis.sample(black_box(u)).iter().flatten() {
                     acc += s.weight + s.pdf + s.x1.x();
                 }
@@ -212,20 +253,21 @@ fn techniques<F: Real, P: PhaseFunction<F> + Copy>(
 
     let mut group = c.benchmark_group(format!("pdf/{precision}"));
     group.throughput(Throughput::Elements(BATCH as u64));
-    let vertices = |t: &dyn Technique<F>| -> Vec<F::Vec3> {
-        // The first BATCH vertices the technique returns (some triples give none).
-        uniforms_n::<F>(64 * BATCH)
+    let vertices = |t: &dyn Technique<F>| -> Pool<F::Vec3> {
+        // The first POOL vertices the technique returns (some triples give none).
+        let x1s: Vec<F::Vec3> = uniforms_n::<F>(8 * POOL)
             .into_iter()
             .filter_map(|u| t.sample(u))
             .map(|s| s.x1)
-            .take(BATCH)
-            .collect()
+            .take(POOL)
+            .collect();
+        assert_eq!(x1s.len(), POOL, "{name}: too few vertices");
+        Pool::new(x1s)
     };
     for (tech, t) in all {
         let x1s = vertices(t);
-        assert_eq!(x1s.len(), BATCH, "{tech} {name}: too few vertices");
         group.bench_function(BenchmarkId::new(tech, name), |b| {
-            b.iter(|| run_pdf(t, &x1s))
+            b.iter(|| run_pdf(t, x1s.next()))
         });
     }
     // mis's combined density at OMNEE's vertices.
@@ -233,7 +275,7 @@ fn techniques<F: Real, P: PhaseFunction<F> + Copy>(
     group.bench_function(BenchmarkId::new("mis", name), |b| {
         b.iter(|| {
             let mut acc = F::ZERO;
-            for &x1 in &x1s {
+            for &x1 in x1s.next() {
                 acc += mis.pdf(black_box(x1));
             }
             acc
@@ -246,7 +288,7 @@ fn techniques<F: Real, P: PhaseFunction<F> + Copy>(
     group.bench_function(name, |b| {
         b.iter(|| {
             let mut acc = F::ZERO;
-            for u in &us {
+            for u in us.next() {
                 let (d, pdf) = phase.sample_pdf(black_box(u[0]));
                 acc += d.theta + pdf;
             }
@@ -258,7 +300,7 @@ fn techniques<F: Real, P: PhaseFunction<F> + Copy>(
 
 /// A new connection per sample: `Connection::new` + OMNEE sample.
 fn connection<F: Real>(c: &mut Criterion<CpuTime>, precision: &str) {
-    let us = uniforms::<F>();
+    let us = Pool::new(uniforms::<F>());
     let hg = HenyeyGreenstein::new(F::from_f64(0.9)).unwrap();
     let x2 = F::Vec3::new(F::ZERO, F::ZERO, F::ZERO);
     let mut group = c.benchmark_group(format!("connection/{precision}"));
@@ -266,7 +308,7 @@ fn connection<F: Real>(c: &mut Criterion<CpuTime>, precision: &str) {
     group.bench_function("omnee-hg0.9", |b| {
         b.iter(|| {
             let mut acc = F::ZERO;
-            for u in &us {
+            for u in us.next() {
                 let x0 = F::Vec3::new(u[2], u[1], F::ONE);
                 let Ok(conn) = Connection::new(black_box(x0), x2, F::FRAC_PI_2) else {
                     continue;
@@ -282,6 +324,49 @@ fn connection<F: Real>(c: &mut Criterion<CpuTime>, precision: &str) {
     group.finish();
 }
 
+/// `phase` sampled through its [`InverseCdf`] (the renderer's choice for a
+/// phase function without a fast exact sampler) under `name`, and its exact
+/// sampler's OMNEE sample under `<name>-exact`.
+fn tabled<F: Real, P: PhaseFunction<F> + Copy>(
+    c: &mut Criterion<CpuTime>,
+    precision: &str,
+    name: &str,
+    phase: P,
+) {
+    let table = InverseCdf::new(&phase).unwrap();
+    techniques(c, precision, name, TableSampled::new(phase, &table));
+    let x0 = F::Vec3::new(F::ZERO, F::ZERO, F::ONE);
+    let full = Connection::new(x0, F::Vec3::new(F::ZERO, F::ZERO, F::ZERO), F::PI).unwrap();
+    let omnee = Omnee::new(full, phase);
+    let us = Pool::new(uniforms::<F>());
+    let mut group = c.benchmark_group(format!("sample/{precision}"));
+    group.throughput(Throughput::Elements(BATCH as u64));
+    group.bench_function(BenchmarkId::new("omnee", format!("{name}-exact")), |b| {
+        b.iter(|| run_sample(&omnee, us.next()))
+    });
+    group.finish();
+}
+
+/// A measured phase function as an instrument would give it: Fournier–Forand
+/// (B = 0.0183, n = 1.10) averaged over 64 bins, 33 log-spaced from 0.1° to
+/// 10° and 31 even ones to 180° (a Petzold-like table).
+fn measured_table() -> (Vec<f64>, Vec<f64>) {
+    let ff = FournierForand::new(0.0183, 1.10).unwrap();
+    let mut edges = vec![0.0];
+    edges.extend((0..33).map(|i| (0.1f64 * 100f64.powf(i as f64 / 32.0)).to_radians()));
+    edges.extend((1..=31).map(|i| (10.0 + 170.0 * i as f64 / 31.0).to_radians()));
+    *edges.last_mut().unwrap() = std::f64::consts::PI;
+    let values = edges
+        .windows(2)
+        .map(|w| {
+            // The bin's mass over its solid angle: a measured bin average.
+            let (a, b) = (Deflection::from_theta(w[0]), Deflection::from_theta(w[1]));
+            (ff.cdf(b) - ff.cdf(a)) / (b.one_minus_cos - a.one_minus_cos)
+        })
+        .collect();
+    (edges, values)
+}
+
 fn all<F: Real>(c: &mut Criterion<CpuTime>, precision: &str) {
     let f = F::from_f64;
     techniques::<F, _>(c, precision, "iso", Isotropic);
@@ -295,15 +380,27 @@ fn all<F: Real>(c: &mut Criterion<CpuTime>, precision: &str) {
         "tthg",
         TwoTermHg::two_term(f(0.99), f(-0.44), f(0.96)).unwrap(),
     );
-    techniques(
+    tabled(
         c,
         precision,
         "ff",
         FournierForand::new(f(0.0183), f(1.10)).unwrap(),
     );
-    techniques(c, precision, "draine", Draine::new(f(0.6), f(1.0)).unwrap());
-    techniques(c, precision, "mie10", Mie::new(f(10.0)).unwrap());
-    techniques::<F, _>(c, precision, "rayleigh", Rayleigh);
+    tabled(c, precision, "draine", Draine::new(f(0.6), f(1.0)).unwrap());
+    tabled(c, precision, "mie10", Mie::new(f(10.0)).unwrap());
+    tabled::<F, _>(c, precision, "rayleigh", Rayleigh);
+    let (edges, values) = measured_table();
+    let (edges, values): (Vec<F>, Vec<F>) = (
+        edges.into_iter().map(f).collect(),
+        values.into_iter().map(f).collect(),
+    );
+    let mut cdf = vec![F::ZERO; edges.len()];
+    tabled(
+        c,
+        precision,
+        "measured",
+        Tabulated::new(&edges, &values, &mut cdf).unwrap(),
+    );
     connection::<F>(c, precision);
 }
 
@@ -359,6 +456,13 @@ fn batch(c: &mut Criterion<CpuTime>) {
     let us = uniforms::<f32>();
     let soa = |k: usize| us.iter().map(|u| u[k]).collect::<Vec<f32>>();
     let (u0, u1, u2) = (soa(0), soa(1), soa(2));
+    // The same walk through the pool as the scalar benchmarks.
+    let at = std::cell::Cell::new(0usize);
+    let window = || {
+        let i = at.get();
+        at.set((i + BATCH) % POOL);
+        i..i + BATCH
+    };
     let full = Connection::new(glam::Vec3::Z, glam::Vec3::ZERO, std::f32::consts::PI).unwrap();
     let mut group = c.benchmark_group("batch/f32");
     group.throughput(Throughput::Elements(BATCH as u64));
@@ -368,12 +472,13 @@ fn batch(c: &mut Criterion<CpuTime>) {
         let (mut pdf, mut weight) = (vec![0.0; BATCH], vec![0.0; BATCH]);
         group.bench_function(BenchmarkId::new("omnee", format!("hg{g}")), |b| {
             b.iter(|| {
+                let w = window();
                 let n = omnee
                     .sample_batch(
                         Uniforms {
-                            u0: black_box(&u0),
-                            u1: &u1,
-                            u2: &u2,
+                            u0: black_box(&u0[w.clone()]),
+                            u1: &u1[w.clone()],
+                            u2: &u2[w],
                         },
                         Vertices {
                             x: &mut x,
@@ -391,10 +496,122 @@ fn batch(c: &mut Criterion<CpuTime>) {
     group.finish();
 }
 
+/// Issue 12's other measurements, f32, HG 0.9, the connection of `sample/*`:
+///
+/// - `batch/f32/omnee-one/hg0.9`: `Omnee::sample_batch` called with one
+///   vertex at a time, as a renderer that draws one vertex per connection
+///   (the CLI's once-more term) would call it; against `sample/f32/omnee`.
+/// - `draw/f32/mis-lazy/hg0.9`: `OmneeMis::draw`, the numbers from the
+///   core's SplitMix64 and taken only when used (4 + 2c per draw), against
+///   `draw/f32/mis-six/hg0.9`, six numbers drawn and `OmneeMis::sample`.
+/// - `pdf/f32/equiangular-at-{point,vertex}/hg0.9`: the companion's
+///   density at OMNEE's vertices from the point (`pdf(x1)`) and from the
+///   vertex with its offsets (`pdf_vertex`), what `OmneeMis` evaluates.
+fn issue12(c: &mut Criterion<CpuTime>) {
+    use omnee::rng::SplitMix64;
+    use omnee::sampling::{Uniforms, Vertex, Vertices, uniform};
+    let full = Connection::new(glam::Vec3::Z, glam::Vec3::ZERO, std::f32::consts::PI).unwrap();
+    let hg = HenyeyGreenstein::new(0.9f32).unwrap();
+    let omnee = Omnee::new(full, hg);
+    let us = Pool::new(uniforms::<f32>());
+
+    let mut group = c.benchmark_group("batch/f32");
+    group.throughput(Throughput::Elements(BATCH as u64));
+    group.bench_function(BenchmarkId::new("omnee-one", "hg0.9"), |b| {
+        b.iter(|| {
+            let mut acc = 0.0f32;
+            for u in us.next() {
+                let (mut x, mut y, mut z, mut pdf, mut weight) =
+                    ([0.0], [0.0], [0.0], [0.0], [0.0]);
+                let n = omnee
+                    .sample_batch(
+                        Uniforms {
+                            u0: black_box(&u[0..1]),
+                            u1: &u[1..2],
+                            u2: &u[2..3],
+                        },
+                        Vertices {
+                            x: &mut x,
+                            y: &mut y,
+                            z: &mut z,
+                            pdf: &mut pdf,
+                            weight: &mut weight,
+                        },
+                    )
+                    .unwrap();
+                acc += n as f32 + weight[0] + pdf[0] + x[0];
+            }
+            acc
+        })
+    });
+    group.finish();
+
+    let equiangular = Equiangular::new(full, hg, Directions::Sphere, Region::Everywhere);
+    let mis = OmneeMis::recommended(omnee, &equiangular);
+    let mut group = c.benchmark_group("draw/f32");
+    group.throughput(Throughput::Elements(BATCH as u64));
+    let mut rng = SplitMix64::new(7);
+    group.bench_function(BenchmarkId::new("mis-lazy", "hg0.9"), |b| {
+        b.iter(|| {
+            let mut acc = 0.0f32;
+            for _ in 0..BATCH {
+                let draw = mis.draw(|| uniform(&mut rng));
+                for s in draw.vertices.iter().flatten() {
+                    acc += s.weight + s.pdf + s.x1.x;
+                }
+            }
+            acc
+        })
+    });
+    let mut rng = SplitMix64::new(7);
+    group.bench_function(BenchmarkId::new("mis-six", "hg0.9"), |b| {
+        b.iter(|| {
+            let mut acc = 0.0f32;
+            for _ in 0..BATCH {
+                let u: [f32; 6] = core::array::from_fn(|_| uniform(&mut rng));
+                for s in mis.sample(black_box(u)).iter().flatten() {
+                    acc += s.weight + s.pdf + s.x1.x;
+                }
+            }
+            acc
+        })
+    });
+    group.finish();
+
+    let vertices: Vec<Vertex<f32>> = uniforms_n::<f32>(2 * POOL)
+        .into_iter()
+        .filter_map(|u| omnee.sample_vertex(u, &full).map(|(_, v)| v))
+        .take(POOL)
+        .collect();
+    let vertices = Pool::new(vertices);
+    let mut group = c.benchmark_group("pdf/f32");
+    group.throughput(Throughput::Elements(BATCH as u64));
+    group.bench_function(BenchmarkId::new("equiangular-at-point", "hg0.9"), |b| {
+        b.iter(|| {
+            let mut acc = 0.0f32;
+            for v in vertices.next() {
+                acc += equiangular.pdf(black_box(v.x1));
+            }
+            acc
+        })
+    });
+    group.bench_function(BenchmarkId::new("equiangular-at-vertex", "hg0.9"), |b| {
+        b.iter(|| {
+            let mut acc = 0.0f32;
+            for v in vertices.next() {
+                acc += equiangular.pdf_vertex(black_box(v));
+            }
+            acc
+        })
+    });
+    group.finish();
+}
+
 fn benches(c: &mut Criterion<CpuTime>) {
     all::<f32>(c, "f32");
     all::<f64>(c, "f64");
     batch(c);
+    issue12(c);
     slab(c);
 }
 

@@ -9,6 +9,11 @@ Usage: python3 benches/summarize.py [CRITERION_DIR]
 Every samplers benchmark processes BATCH = 256 samples (or vertices, or
 connections) per iteration, so ns per item = criterion's mean time per
 iteration / 256 (the median and the confidence interval are scaled alike). Prints Markdown tables to stdout.
+
+Phase functions sampled through a table (ff, draine, mie10, rayleigh,
+measured) have their exact sampler's OMNEE sample under `<name>-exact`;
+the issue-12 table at the end gives every ratio the issue sets a target for,
+from this one run.
 """
 import json
 import os
@@ -46,7 +51,10 @@ def main():
     for (g, f, v) in data:
         if g.startswith("sample/") and v not in phases:
             phases.append(v)
-    order = ["iso", "hg0", "hg0.9", "hg0.98", "tthg", "ff", "draine", "mie10", "rayleigh"]
+    order = ["iso", "hg0", "hg0.9", "hg0.98", "tthg", "ff", "draine", "mie10", "rayleigh",
+             "measured"]
+    exact = [p for p in phases if p.endswith("-exact")]
+    phases = [p for p in phases if not p.endswith("-exact")]
     phases.sort(key=lambda p: order.index(p) if p in order else 99)
 
     def cell(d):
@@ -73,12 +81,51 @@ def main():
         if c:
             print(f"\nNew connection per sample (Connection::new + OMNEE hg0.9 sample): "
                   f"{c['mean']:.1f} ns [{c['lo']:.1f}, {c['hi']:.1f}].")
+    for prec in ["f32", "f64"]:
+        if not exact:
+            break
+        print(f"\n#### {prec}: OMNEE sample with the exact sampler against the table, ns\n")
+        print("| phase | exact sampler | table | exact ÷ table |")
+        print("|---|---|---|---|")
+        for p in sorted(exact, key=lambda p: order.index(p[:-6]) if p[:-6] in order else 99):
+            e = data.get((f"sample/{prec}", "omnee", p))
+            t = data.get((f"sample/{prec}", "omnee", p[:-6]))
+            if e and t:
+                print(f"| {p[:-6]} | {cell(e)} | {cell(t)} | {e['mean'] / t['mean']:.1f} |")
+    targets(data)
     slab = [(t, data.get(("slab", t, None))) for t in techs]
     if any(d for _, d in slab):
         print("\n#### One once-more connection of the slab renderer (default scene), ns, criterion mean [95 % CI]\n")
         print("| " + " | ".join(techs) + " |")
         print("|---" * len(techs) + "|")
         print("| " + " | ".join(cell(d) for _, d in slab) + " |")
+
+def targets(data):
+    """The ratios issue 12 sets targets for, from this run (f32)."""
+    get = lambda g, f, v=None: data.get((g, f, v))
+    hg = get("sample/f32", "omnee", "hg0.9")
+    eq = get("sample/f32", "equiangular", "hg0.9")
+    if not (hg and eq):
+        return
+    print("\n#### Issue 12 targets (f32, this run)\n")
+    print("| quantity | measured | target |")
+    print("|---|---|---|")
+    for v in ["iso", "hg0", "hg0.9", "hg0.98"]:
+        o, e = get("sample/f32", "omnee", v), get("sample/f32", "equiangular", v)
+        if o and e:
+            print(f"| OMNEE ÷ equiangular, {v} | {o['mean']:.1f} / {e['mean']:.1f} = "
+                  f"{o['mean'] / e['mean']:.2f} | ≤ 0.35 (HG) |")
+    for v in ["ff", "draine", "mie10", "rayleigh", "measured", "tthg"]:
+        o = get("sample/f32", "omnee", v)
+        if o:
+            print(f"| OMNEE {v} ÷ OMNEE hg0.9 | {o['mean']:.1f} / {hg['mean']:.1f} = "
+                  f"{o['mean'] / hg['mean']:.2f} | ≤ 1.5 |")
+    for v in ["hg0", "hg0.9", "hg0.98"]:
+        b, o = get("batch/f32", "omnee", v), get("sample/f32", "omnee", v)
+        if b and o:
+            print(f"| batch ÷ scalar OMNEE, {v} | {b['mean']:.1f} / {o['mean']:.1f} = "
+                  f"{b['mean'] / o['mean']:.2f} | ≤ 0.5 |")
+
 
 if __name__ == "__main__":
     main()

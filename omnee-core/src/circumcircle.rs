@@ -109,7 +109,21 @@ impl<F: Real> Axis<F> {
     #[inline]
     pub fn place(&self, triangle: &Triangle<F>, phi: F) -> Option<F::Vec3> {
         let (sin_phi, cos_phi) = phi.sin_cos();
-        let radial = self.b1 * cos_phi + self.b2 * sin_phi;
+        self.place_radial(triangle, self.b1 * cos_phi + self.b2 * sin_phi)
+    }
+
+    /// [`place`](Self::place) with the azimuth in turns, `φ = 2π turn`
+    /// (`turn ∈ [0, 1]`, the sampler's uniform number), through
+    /// [`Real::sin_cos_turn`]: the samplers' form, without rounding φ first.
+    #[inline(always)]
+    pub fn place_turn(&self, triangle: &Triangle<F>, turn: F) -> Option<F::Vec3> {
+        let (sin_phi, cos_phi) = turn.sin_cos_turn();
+        self.place_radial(triangle, self.b1 * cos_phi + self.b2 * sin_phi)
+    }
+
+    /// `x0 + d1 cos α · e + d1 sin α · radial` for a unit `radial ⊥ e`.
+    #[inline(always)]
+    fn place_radial(&self, triangle: &Triangle<F>, radial: F::Vec3) -> Option<F::Vec3> {
         let x1 = self.x0
             + self.e * (triangle.d1 * triangle.cos_alpha)
             + radial * (triangle.d1 * triangle.sin_alpha);
@@ -200,8 +214,19 @@ impl<F: Real> Triangle<F> {
     ///
     /// `None` for θ ≥ π (the triangle does not close), `β/θ ∉ [0, 1]` or
     /// non-finite input.
-    #[inline]
+    #[inline(always)]
     pub fn solve(s: F, deflection: Deflection<F>, beta_ratio: F) -> Option<Self> {
+        Self::solve_with_beta(s, deflection, beta_ratio).map(|(t, _, _)| t)
+    }
+
+    /// [`solve`](Self::solve) with `(sin β, cos β)` of the angle at `x2`,
+    /// which place `x1` from `x2`: `x1 − x2 = d2 (sin β ρ − cos β e)`.
+    #[inline(always)]
+    pub(crate) fn solve_with_beta(
+        s: F,
+        deflection: Deflection<F>,
+        beta_ratio: F,
+    ) -> Option<(Self, F, F)> {
         let theta = deflection.theta;
         if !(theta >= F::ZERO
             && theta < F::PI
@@ -212,14 +237,17 @@ impl<F: Real> Triangle<F> {
         }
         let (beta, alpha) = (beta_ratio * theta, (F::ONE - beta_ratio) * theta);
         let (sin_theta, cos_theta) = (deflection.sin(), deflection.cos());
-        let beta_is_smaller = beta <= alpha;
-        let (sin_small, cos_small) = if beta_is_smaller { beta } else { alpha }.sin_cos();
+        // min(β, α) = θ min(β/θ, 1 − β/θ) exactly (rounding is monotone), with
+        // the comparison off the path from θ.
+        let beta_is_smaller = beta_ratio <= F::ONE - beta_ratio;
+        let small = theta * beta_ratio.min(F::ONE - beta_ratio);
+        let (sin_small, cos_small) = small.sin_cos_acute();
         let sin_large = sin_theta * cos_small - cos_theta * sin_small;
         let cos_large = cos_theta * cos_small + sin_theta * sin_small;
-        let (sin_alpha, cos_alpha, sin_beta) = if beta_is_smaller {
-            (sin_large, cos_large, sin_small)
+        let (sin_alpha, cos_alpha, sin_beta, cos_beta) = if beta_is_smaller {
+            (sin_large, cos_large, sin_small, cos_small)
         } else {
-            (sin_small, cos_small, sin_large)
+            (sin_small, cos_small, sin_large, cos_large)
         };
         let (d1, d2, sinc_theta) = if sinc_is_series(theta) {
             let sinc_theta = sinc(theta);
@@ -231,13 +259,17 @@ impl<F: Real> Triangle<F> {
             let scale = s / sin_theta;
             (scale * sin_beta, scale * sin_alpha, sin_theta / theta)
         };
-        (d1.is_finite() && d2.is_finite() && sinc_theta > F::ZERO).then_some(Self {
-            d1,
-            d2,
-            sinc_theta,
-            sin_alpha,
-            cos_alpha,
-        })
+        (d1.is_finite() && d2.is_finite() && sinc_theta > F::ZERO).then_some((
+            Self {
+                d1,
+                d2,
+                sinc_theta,
+                sin_alpha,
+                cos_alpha,
+            },
+            sin_beta,
+            cos_beta,
+        ))
     }
 }
 

@@ -15,4 +15,5 @@ mod harness;
 mod lobe;
 mod properties;
 mod stability;
+mod tables;
 mod unbiased;

@@ -100,7 +100,8 @@ pub struct LobeSample<F: Real> {
 /// propagation direction, and a sampler of directions (the trio of
 /// [`Technique`], over the sphere).
 ///
-/// A phase function ([`PhaseLobe`]) has `eval = pdf`; a BSDF lobe would
+/// A phase function with an exact sampler ([`PhaseLobe`]) has `eval = pdf`;
+/// a table-sampled one (docs/math.md §11) has its table's `q` as pdf; a BSDF lobe would
 /// return its value times the cosine in `eval` and its own sampling density
 /// in `pdf`, and the techniques of this module would weight by their ratio.
 pub trait Lobe<F: Real> {
@@ -190,19 +191,21 @@ impl<F: Real, P: PhaseFunction<F>> Lobe<F> for PhaseLobe<F, P> {
     }
 
     /// θ0 from the phase function with `u0`, `φ0 = 2π u1` (each clamped to
-    /// `[0, 1]`, NaN to 0); value and pdf are the phase function's density
-    /// of the draw, so their ratio is exactly 1.
+    /// `[0, 1]`, NaN to 0); pdf is the density `q` of the draw and value
+    /// `p0 = q · (p0/q)` from [`PhaseFunction::sample_ratio`]: the same
+    /// number for an exact sampler (ratio 1), the phase function's own value
+    /// for a table-sampled one (docs/math.md §11), whose `q` is not `p0`.
     #[inline]
     fn sample(&self, u: [F; 2]) -> Option<LobeSample<F>> {
-        let (d, pdf) = self
+        let (d, pdf, ratio) = self
             .phase
-            .sample_pdf(u[0].clamp_to(F::ZERO, F::ONE_MINUS_EPSILON));
+            .sample_ratio(u[0].clamp_to(F::ZERO, F::ONE_MINUS_EPSILON));
         let (sin_phi, cos_phi) = (F::TAU * u[1].clamp_to(F::ZERO, F::ONE)).sin_cos();
         let radial = self.tangent * cos_phi + self.bitangent * sin_phi;
         let omega = self.incoming * d.cos() + radial * d.sin();
         (omega.is_finite() && pdf > F::ZERO).then_some(LobeSample {
             omega,
-            value: pdf,
+            value: pdf * ratio,
             pdf,
         })
     }

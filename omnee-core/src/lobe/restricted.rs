@@ -16,6 +16,11 @@ use crate::real::Real;
 /// weight times its own mass in the interval and sample that lobe
 /// restricted, so that every phase function of [`crate::phase`] samples its
 /// restriction exactly.
+///
+/// Not implemented for [`crate::phase::TableSampled`]: its sampler is the
+/// table's `q`, not the inverse of its (the phase function's) cdf, and
+/// [`super::LobeRay`]'s closed-form weight cancels `p1` against the density
+/// it draws with (docs/math.md §11, §12).
 pub trait Restricted<F: Real>: PhaseFunction<F> {
     /// `M = P(lo ≤ Θ < hi) = P(hi) − P(lo)`, at least 0.
     #[inline]

@@ -311,3 +311,26 @@ fn a_lobe_with_a_receiver_normal_is_refused() {
     assert_eq!(e.field(), "receiver_normal");
     assert!(LobeToPoint::<f64, PhaseLobe<f64, Isotropic>>::new(p, None).is_ok());
 }
+
+#[test]
+fn a_table_sampled_lobe_reports_the_phase_functions_value_and_the_tables_density() {
+    use crate::phase::{InverseCdf, TableSampled};
+    let ff = phase("ff:0.0183,1.1");
+    let table = InverseCdf::new(&ff).unwrap();
+    let incoming = DVec3::new(0.0, 0.6, 0.8);
+    let lobe = PhaseLobe::new(TableSampled::new(ff, &table), incoming).unwrap();
+    let mut apart = 0;
+    for u in triples(2000) {
+        let s = lobe.sample([u[0], u[1]]).unwrap();
+        let (value, pdf) = (lobe.eval(s.omega), lobe.pdf(s.omega));
+        assert!(
+            (s.value / value - 1.0).abs() < 1e-9 && (s.pdf / pdf - 1.0).abs() < 1e-7,
+            "{u:?}: {s:?} against eval {value:e}, pdf {pdf:e}"
+        );
+        // The table is close to p0 but not p0: the ratio is not always 1.
+        if (s.value / s.pdf - 1.0).abs() > 1e-6 {
+            apart += 1;
+        }
+    }
+    assert!(apart > 100, "{apart} of 2000 draws with p0/q ≠ 1");
+}

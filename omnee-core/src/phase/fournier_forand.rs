@@ -5,7 +5,7 @@ use super::invert::invert_cdf;
 use super::{Deflection, PhaseFunction};
 use crate::error::{Error, check_closed, check_open};
 use crate::quadrature::integrate_geometric;
-use crate::real::Real;
+use crate::real::{Real, exp_for, ln_for};
 
 /// Fournier & Forand (1994), in Fournier & Jonasz's (1999) form, for a Junge
 /// (hyperbolic) particle size distribution of slope `μ_J = 3 − 2ν` and relative
@@ -52,20 +52,30 @@ pub const FF_N_MIN: f64 = 1.001;
 /// Largest accepted refractive index (see [`FournierForand`]).
 pub const FF_N_MAX: f64 = 1.5;
 
-/// `eᶻ − 1 − z` without cancellation: a Taylor series for `|z| < 1/4`.
-fn exp_m1_m_x(z: f64) -> f64 {
-    if z.abs() < 0.25 {
-        // z²/2! + z³/3! + … + z¹²/12!; the next term is below 1e-17 relative.
-        let mut term = z * z * 0.5;
-        let mut sum = term;
-        for k in 3..=12 {
-            term *= z / k as f64;
-            sum += term;
-        }
-        sum
-    } else {
-        libm::expm1(z) - z
-    }
+/// `e₂(z) = eᶻ − 1 − z` for `|z| < 1/4` by its Taylor series
+/// `z²/2! + z³/3! + … + z¹²/12!` (the next term is below 1e-17 relative),
+/// in Estrin's scheme with the coefficients `1/k!` folded.
+fn e2_series(z: f64) -> f64 {
+    const C: [f64; 11] = [
+        1.0 / 2.0,
+        1.0 / 6.0,
+        1.0 / 24.0,
+        1.0 / 120.0,
+        1.0 / 720.0,
+        1.0 / 5040.0,
+        1.0 / 40_320.0,
+        1.0 / 362_880.0,
+        1.0 / 3_628_800.0,
+        1.0 / 39_916_800.0,
+        1.0 / 479_001_600.0,
+    ];
+    let z2 = z * z;
+    let z4 = z2 * z2;
+    let z8 = z4 * z4;
+    let p = ((C[0] + C[1] * z) + z2 * (C[2] + C[3] * z))
+        + z4 * ((C[4] + C[5] * z) + z2 * (C[6] + C[7] * z))
+        + z8 * ((C[8] + C[9] * z) + z2 * C[10]);
+    z2 * p
 }
 
 impl<F: Real> FournierForand<F> {
@@ -140,27 +150,42 @@ impl Shape {
         }
     }
 
-    /// `φ'(δ) = [(1 + ν) e_2(−ν L) − ν e_2(−(ν + 1) L)] / (1 − δ)²`, `L = ln δ`,
-    /// `e_2(z) = eᶻ − 1 − z ≥ 0`: a sum of non-negative terms (limit
-    /// `−ν(1 + ν)/2` at δ = 1), where the textbook numerator
+    /// `2π p(θ)` in f64 at `x = 1 − cos θ`, `y = 1 + cos θ` (see `eval`):
+    /// `−φ(δ)/2 + (y/2) δ₉₀ φ'(δ) + (K/8)(3μ² − 1)`, with
+    /// `φ(δ) = expm1(aL)/(1 − δ)` and
+    /// `φ'(δ) = [(1 − a) e₂(aL) + a e₂((a − 1)L)] / (1 − δ)²`, `a = −ν`,
+    /// `L = ln δ`, `e₂(z) = eᶻ − 1 − z ≥ 0`: a sum of non-negative terms (limit
+    /// `a(1 − a)/2` at δ = 1), where the textbook numerator
     /// `δ^{−ν} − 1 − ν δ^{−ν−1}(1 − δ)` cancels to `O((1 − δ)²)`.
-    fn phi_prime(&self, delta: f64) -> f64 {
+    ///
+    /// One logarithm and one exponential: `E = e^{aL} = δᵃ`, then
+    /// `expm1(aL) = E − 1`, `e₂(aL) = (E − 1) − aL` and
+    /// `e₂((a − 1)L) = E/δ − 1 − (a − 1)L` where `|z| ≥ 1/4` (they lose at
+    /// most 3 bits there), the Taylor series `e2_series` below. `ln` and
+    /// `exp` are as accurate as a result in `F` needs ([`exp_for`]).
+    fn density<F: Real>(&self, x: f64, y: f64) -> f64 {
         let a = self.a;
-        if delta == 1.0 {
-            return 0.5 * a * (1.0 - a);
-        }
-        let l = libm::log(delta);
-        let num = (1.0 - a) * exp_m1_m_x(a * l) + a * exp_m1_m_x((a - 1.0) * l);
-        num / ((1.0 - delta) * (1.0 - delta))
-    }
-
-    /// `2π p(θ)` in f64, `x = 1 − cos θ`, `y = 1 + cos θ` (see `eval`).
-    fn dens64(&self, x: f64, y: f64) -> f64 {
         let delta = self.delta90 * x;
         let mu = if x <= 1.0 { 1.0 - x } else { y - 1.0 };
-        -0.5 * self.phi(delta)
-            + 0.5 * y * self.delta90 * self.phi_prime(delta)
-            + 0.125 * self.k * (3.0 * mu * mu - 1.0)
+        let legendre = 0.125 * self.k * (3.0 * mu * mu - 1.0);
+        if delta == 1.0 {
+            return 0.5 * a + 0.25 * y * self.delta90 * a * (1.0 - a) + legendre;
+        }
+        // The reciprocals beside the logarithm, off the way to the result.
+        let (inv_delta, inv_one_minus_delta) = (1.0 / delta, 1.0 / (1.0 - delta));
+        let l = ln_for::<F>(delta);
+        let (z1, z2) = (a * l, (a - 1.0) * l);
+        let e = exp_for::<F>(z1);
+        // Both forms, chosen by exact 0/1 weights: a branch on |z| < 1/4 is
+        // mispredicted for deflections around δ = 1.
+        let near = |z: f64| f64::from(u8::from(z.abs() < 0.25));
+        let (w1, w2) = (near(z1), near(z2));
+        let e2_a = w1 * e2_series(z1) + (1.0 - w1) * ((e - 1.0) - z1);
+        let expm1 = w1 * (z1 + e2_a) + (1.0 - w1) * (e - 1.0);
+        let e2_a1 = w2 * e2_series(z2) + (1.0 - w2) * ((e * inv_delta - 1.0) - z2);
+        let phi = expm1 * inv_one_minus_delta;
+        let phi_prime = ((1.0 - a) * e2_a + a * e2_a1) * inv_one_minus_delta * inv_one_minus_delta;
+        -0.5 * phi + 0.5 * y * self.delta90 * phi_prime + legendre
     }
 
     /// `P(Θ > θ) = −(y/2) φ(δ) − (K/8) μ x y` in f64.
@@ -195,7 +220,7 @@ impl<F: Real> PhaseFunction<F> for FournierForand<F> {
     fn eval(&self, d: Deflection<F>) -> F {
         let x = d.one_minus_cos.to_f64().max(F::MIN_POSITIVE.to_f64());
         let y = d.one_plus_cos.to_f64();
-        let p = self.shape.dens64(x, y) * 0.5 * core::f64::consts::FRAC_1_PI;
+        let p = self.shape.density::<F>(x, y) * 0.5 * core::f64::consts::FRAC_1_PI;
         F::from_f64(p.max(0.0)).min(F::MAX)
     }
 
@@ -215,7 +240,7 @@ impl<F: Real> PhaseFunction<F> for FournierForand<F> {
             guess,
             |x, y| self.shape.cdf64(x, y),
             |x, y| self.shape.ccdf64(x, y),
-            |x, y| self.shape.dens64(x, y),
+            |x, y| self.shape.density::<f64>(x, y),
         );
         Deflection::from_versines(F::from_f64(x), F::from_f64(y))
     }

@@ -96,6 +96,32 @@ impl<F: Real, A: PhaseFunction<F>, B: PhaseFunction<F>> PhaseFunction<F> for Mix
         w * self.a.cdf(d) + F::from_f64(1.0 - self.w) * self.b.cdf(d)
     }
 
+    /// `w·q_A(θ) + (1 − w)·q_B(θ)`, the density `sample` draws with (equal to
+    /// `eval` for lobes that sample exactly).
+    #[inline]
+    fn pdf(&self, d: Deflection<F>) -> F {
+        let w = F::from_f64(self.w);
+        w * self.a.pdf(d) + F::from_f64(1.0 - self.w) * self.b.pdf(d)
+    }
+
+    /// [`sample_pdf`](PhaseFunction::sample_pdf) with the ratio `eval/pdf`:
+    /// 1 if both lobes sample exactly, else evaluated.
+    #[inline]
+    fn sample_ratio(&self, u: F) -> (Deflection<F>, F, F) {
+        let (d, pdf) = self.sample_pdf(u);
+        if self.samples_exactly() {
+            (d, pdf, F::ONE)
+        } else {
+            (d, pdf, self.eval(d) / pdf)
+        }
+    }
+
+    /// Whether both lobes sample exactly.
+    #[inline]
+    fn samples_exactly(&self) -> bool {
+        self.a.samples_exactly() && self.b.samples_exactly()
+    }
+
     /// `w·⟨cos θ⟩_A + (1 − w)·⟨cos θ⟩_B`.
     #[inline]
     fn mean_cosine(&self) -> F {

@@ -17,6 +17,7 @@
 mod draine;
 mod fournier_forand;
 mod henyey_greenstein;
+mod inverse_cdf;
 mod invert;
 mod isotropic;
 mod mie;
@@ -30,6 +31,7 @@ mod testing;
 pub use draine::{DRAINE_ALPHA_MAX, Draine};
 pub use fournier_forand::{FF_N_MAX, FF_N_MIN, FournierForand};
 pub use henyey_greenstein::HenyeyGreenstein;
+pub use inverse_cdf::{INVERSE_CDF_BINS, InverseCdf, TableSampled};
 pub use isotropic::Isotropic;
 pub use mie::{MIE_DIAMETER_MAX_UM, Mie, MieFit, mie_fit};
 pub use mixture::{Mixture, TwoTermHg};
@@ -58,7 +60,7 @@ impl<F: Real> Deflection<F> {
     #[inline]
     pub fn from_theta(theta: F) -> Self {
         let theta = theta.clamp_to(F::ZERO, F::PI);
-        let (s, c) = (theta * F::HALF).sin_cos();
+        let (s, c) = (theta * F::HALF).sin_cos_acute();
         Self {
             theta,
             one_minus_cos: F::TWO * s * s,
@@ -73,7 +75,7 @@ impl<F: Real> Deflection<F> {
         let omc = one_minus_cos.clamp_to(F::ZERO, F::TWO);
         let opc = one_plus_cos.clamp_to(F::ZERO, F::TWO);
         Self {
-            theta: F::TWO * omc.sqrt().atan2(opc.sqrt()),
+            theta: F::TWO * omc.atan2_sqrt(opc),
             one_minus_cos: omc,
             one_plus_cos: opc,
         }
@@ -121,7 +123,7 @@ impl<F: Real> Deflection<F> {
         let plus = sum.length_squared();
         let k = F::TWO / (minus + plus);
         Self {
-            theta: F::TWO * minus.sqrt().atan2(plus.sqrt()),
+            theta: F::TWO * minus.atan2_sqrt(plus),
             one_minus_cos: minus * k,
             one_plus_cos: plus * k,
         }
@@ -185,6 +187,25 @@ pub trait PhaseFunction<F: Real> {
         (d, self.pdf(d))
     }
 
+    /// `(d, pdf(d), eval(d) / pdf(d))` with `d = sample(u)`: the deflection,
+    /// the density it was drawn with, and the factor `p/q` by which an
+    /// estimator that divides by that density must correct for drawing from
+    /// `q = pdf` instead of `p = eval`. 1 for every sampler that draws `p`
+    /// exactly (the default); [`TableSampled`] returns its table's ratio.
+    #[inline]
+    fn sample_ratio(&self, u: F) -> (Deflection<F>, F, F) {
+        let (d, pdf) = self.sample_pdf(u);
+        (d, pdf, F::ONE)
+    }
+
+    /// Whether `sample` draws `eval` exactly, i.e. `pdf = eval` and
+    /// [`sample_ratio`](Self::sample_ratio)'s ratio is 1 (true but for
+    /// [`TableSampled`] and mixtures of it).
+    #[inline]
+    fn samples_exactly(&self) -> bool {
+        true
+    }
+
     /// The `u` with `sample(u) = d`, where `sample` is invertible; `cdf(d)` for
     /// inverse-CDF samplers. Mixtures choose a lobe with `u` and return `None`.
     #[inline]
@@ -223,6 +244,14 @@ impl<F: Real, P: PhaseFunction<F> + ?Sized> PhaseFunction<F> for &P {
     #[inline]
     fn sample_pdf(&self, u: F) -> (Deflection<F>, F) {
         (**self).sample_pdf(u)
+    }
+    #[inline]
+    fn sample_ratio(&self, u: F) -> (Deflection<F>, F, F) {
+        (**self).sample_ratio(u)
+    }
+    #[inline]
+    fn samples_exactly(&self) -> bool {
+        (**self).samples_exactly()
     }
     #[inline]
     fn invert(&self, d: Deflection<F>) -> Option<F> {
@@ -298,6 +327,17 @@ impl<F: Real> PhaseFunction<F> for Phase<'_, F> {
     #[inline]
     fn sample_pdf(&self, u: F) -> (Deflection<F>, F) {
         dispatch!(self, p => p.sample_pdf(u))
+    }
+    /// The variant's sample with its pdf and ratio (1: every variant samples
+    /// exactly).
+    #[inline]
+    fn sample_ratio(&self, u: F) -> (Deflection<F>, F, F) {
+        dispatch!(self, p => p.sample_ratio(u))
+    }
+    /// The variant's (true for all of them).
+    #[inline]
+    fn samples_exactly(&self) -> bool {
+        dispatch!(self, p => PhaseFunction::<F>::samples_exactly(p))
     }
     /// The variant's inverse (`None` for the mixtures).
     #[inline]

@@ -2,18 +2,25 @@
 //! function for a whole batch of uniform triples at once, in f32.
 //!
 //! The loop body is the scalar [`Omnee::sample`](super::Technique::sample)
-//! written without branches and with polynomial `sin`/`cos` and `atan`
-//! (Cephes' single-precision minimax coefficients) and a Newton square root
-//! instead of calls into `libm` (whose `sqrtf` is an opaque instruction, and
-//! stable `no_std` Rust has no other), so that the compiler turns it into
-//! SIMD code: four lanes with the x86-64 baseline (SSE2), eight with AVX2. Results agree with the scalar sampler to a few ulps (tested
-//! below); a lane that has no sample (θ ≥ θmax, `x1` on an end point) gets
-//! `pdf = weight = 0` and `x1 = x0`.
+//! written without branches and without conversions between floats and
+//! integers (x86-64's baseline, SSE2, converts one lane at a time), with the
+//! scalar path's polynomials evaluated in f32 ([`real::SIN_ACUTE`],
+//! [`real::ATAN_SQRT`]: the same fits, a few ulps from rounding in f32) and
+//! a Newton square root instead of calls into `libm` (whose `sqrtf` is an
+//! opaque instruction, and stable `no_std` Rust has no other), so that the
+//! compiler turns it into SIMD code: four lanes with the x86-64 baseline
+//! (SSE2), eight with AVX2. Results agree with the scalar sampler to a few
+//! ulps (tested below); a lane that has no sample (θ ≥ θmax, `x1` on an end
+//! point) gets `pdf = weight = 0` and `x1 = x0`.
+//!
+//! [`real::SIN_ACUTE`]: crate::real
+//! [`real::ATAN_SQRT`]: crate::real
 
 use super::Omnee;
 use crate::error::Error;
 use crate::phase::HenyeyGreenstein;
-use core::f32::consts::{FRAC_1_PI, FRAC_2_PI, FRAC_PI_2, FRAC_PI_4, TAU};
+use crate::real::{ATAN_SQRT, SIN_ACUTE, sinc_is_series};
+use core::f32::consts::{FRAC_1_PI, FRAC_PI_2, TAU};
 
 /// The uniform numbers of a batch, one slice per coordinate.
 #[derive(Clone, Copy, Debug)]
@@ -44,23 +51,23 @@ pub struct Vertices<'a> {
 impl Omnee<f32, HenyeyGreenstein<f32>> {
     /// [`Technique::sample`](super::Technique::sample) for every `i` of the batch: `x1_i`, its pdf and
     /// weight from `(u0_i, u1_i, u2_i)`, by the same formulas (HG's inverse
-    /// CDF in versine form, θ = 2 atan(√(1 − cos θ)/√(1 + cos θ)), the law of
-    /// sines with the smaller of α, β through `sin_cos`), branch-free.
-    /// Returns the number of lanes that have a sample. Fails if the slices'
-    /// lengths differ.
+    /// CDF in versine form with `θ = 2 atan2(√a, √b)`, the law of sines with
+    /// the smaller of α, β through its sine and cosine, φ = 2π u2),
+    /// branch-free. Returns the number of lanes that have a sample. Fails
+    /// with [`Error::Table`] (field `"batch"`) if a slice's length differs
+    /// from that of `u.u0` (the C ABI documents that error for it).
     pub fn sample_batch(&self, u: Uniforms<'_>, out: Vertices<'_>) -> Result<usize, Error> {
         let n = u.u0.len();
-        if [
+        let lengths = [
             u.u1.len(),
             u.u2.len(),
             out.x.len(),
             out.y.len(),
             out.z.len(),
-        ]
-        .iter()
-        .chain([out.pdf.len(), out.weight.len()].iter())
-        .any(|&len| len != n)
-        {
+            out.pdf.len(),
+            out.weight.len(),
+        ];
+        if lengths.iter().any(|&len| len != n) {
             return Err(Error::Table {
                 field: "batch",
                 reason: "uniform and output slices differ in length",
@@ -71,6 +78,7 @@ impl Omnee<f32, HenyeyGreenstein<f32>> {
         let theta_max = self.connection.theta_max;
         let g = self.phase.g();
         let (one_minus_g, one_plus_g) = (1.0 - g, 1.0 + g);
+        let (omg2, opg2) = (one_minus_g * one_minus_g, one_plus_g * one_plus_g);
         let one_minus_g2 = one_minus_g * one_plus_g;
         let pdf_scale = 0.25 * FRAC_1_PI / (one_minus_g2 * one_minus_g2);
         // Every slice cut to n, so that the loop has no bounds checks left
@@ -81,26 +89,25 @@ impl Omnee<f32, HenyeyGreenstein<f32>> {
         let mut count = 0;
         for i in 0..n {
             let uu = u0[i].clamp(0.0, 1.0);
-            // k = 1 + g − 2gu from non-negative terms (as the scalar sampler).
+            // k = 1 + g − 2gu from non-negative terms (as the scalar sampler),
+            // 1 − cos θ = a/k², 1 + cos θ = b/k², θ = 2 atan2(√a, √b).
             let k = if g >= 0.0 {
                 one_minus_g + 2.0 * g * (1.0 - uu)
             } else {
                 one_plus_g - 2.0 * g * uu
             };
-            let inv_k = 1.0 / k;
-            let q = one_minus_g2 * inv_k;
-            let omc = (one_minus_g * uu * (q + one_minus_g) * inv_k).clamp(0.0, 2.0);
-            let opc = (one_plus_g * (1.0 - uu) * (q + one_plus_g) * inv_k).clamp(0.0, 2.0);
+            let a = omg2 * uu * (one_plus_g + k);
+            let b = opg2 * (1.0 - uu) * (one_minus_g + k);
+            let inv_k2 = (1.0 / k) * (1.0 / k);
+            let omc = (a * inv_k2).min(2.0);
+            let opc = (b * inv_k2).min(2.0);
             let phase_pdf = pdf_scale * (k * k * k);
-            let (rm, rp) = (sqrt(omc), sqrt(opc));
-            let theta = 2.0 * atan2_quadrant(rm, rp);
+            let theta = 2.0 * atan2_sqrt(a, b);
+            let sin_theta = sqrt(omc * opc);
+            let cos_theta = if omc <= 1.0 { 1.0 - omc } else { opc - 1.0 };
             let ratio = u1[i].clamp(0.0, 1.0);
-            let (beta, alpha) = (ratio * theta, (1.0 - ratio) * theta);
-            let beta_is_smaller = beta <= alpha;
-            let small = if beta_is_smaller { beta } else { alpha };
-            let (sin_small, cos_small) = sin_cos(small);
-            let sin_theta = rm * rp;
-            let cos_theta = 1.0 - omc;
+            let beta_is_smaller = ratio <= 1.0 - ratio;
+            let (sin_small, cos_small) = sin_cos_acute(theta * ratio.min(1.0 - ratio));
             let sin_large = sin_theta * cos_small - cos_theta * sin_small;
             let cos_large = cos_theta * cos_small + sin_theta * sin_small;
             let (sin_alpha, cos_alpha, sin_beta) = if beta_is_smaller {
@@ -110,20 +117,20 @@ impl Omnee<f32, HenyeyGreenstein<f32>> {
             };
             // Tiny θ: the sinc form 1 − x²/6 (x⁴/120 is below an f32 ulp
             // where it applies), else the law of sines.
-            let tiny = theta * theta < 3.452_669_8e-6;
+            let tiny = sinc_is_series(theta);
             let sinc = |x: f32| 1.0 - x * x * (1.0 / 6.0);
             let sinc_theta = if tiny { sinc(theta) } else { sin_theta / theta };
             let (d1, d2) = if tiny {
                 let scale = s / sinc_theta;
                 (
-                    scale * ratio * sinc(beta),
-                    scale * (1.0 - ratio) * sinc(alpha),
+                    scale * ratio * sinc(ratio * theta),
+                    scale * (1.0 - ratio) * sinc((1.0 - ratio) * theta),
                 )
             } else {
                 let scale = s / sin_theta;
                 (scale * sin_beta, scale * sin_alpha)
             };
-            let (sin_phi, cos_phi) = sin_cos(TAU * u2[i].clamp(0.0, 1.0));
+            let (sin_phi, cos_phi) = sin_cos_turn(u2[i].clamp(0.0, 1.0));
             let (p1, h) = (d1 * cos_alpha, d1 * sin_alpha);
             let r = 1.0 / (d1 * d2);
             let pdf = phase_pdf * sinc_theta * s * r * r;
@@ -162,47 +169,69 @@ fn sqrt(a: f32) -> f32 {
     if a >= f32::MIN_POSITIVE { a * y } else { 0.0 }
 }
 
-/// `(sin x, cos x)` for `x ∈ [0, 2π]`: Cody–Waite reduction by π/2 to
-/// `r ∈ [−π/4, π/4]` (π/2 split into three parts, exact products for the
-/// quadrant j ≤ 4), Cephes' minimax polynomials
-/// `sin r ≈ r + r³ (s0 + s1 r² + s2 r⁴)`,
-/// `cos r ≈ 1 − r²/2 + r⁴ (c0 + c1 r² + c2 r⁴)`, and the quadrant's
-/// swap and signs.
+/// `(sin x, cos x)` for `|x| ≤ π/2` in f32: `x S(x²)` and `y S(y²)` with
+/// `y = π/2 − |x|` (π/2 in two parts, so `y` keeps its digits next to π/2),
+/// [`SIN_ACUTE`] in Estrin's scheme: the scalar path's kernel
+/// ([`crate::real::sin_cos_acute_f32`]) evaluated in f32.
 #[inline(always)]
-fn sin_cos(x: f32) -> (f32, f32) {
-    let j = (x * FRAC_2_PI + 0.5) as i32;
-    let jf = j as f32;
-    let r = ((x - jf * 1.570_312_5) - jf * 4.837_513e-4) - jf * 7.549_79e-8;
-    let z = r * r;
-    let sin = r + r * z * (-1.666_665_5e-1 + z * (8.332_161e-3 + z * -1.951_529_6e-4));
-    let cos = 1.0 - 0.5 * z + z * z * (4.166_664_6e-2 + z * (-1.388_731_6e-3 + z * 2.443_315_7e-5));
-    let (sin, cos) = if j & 1 == 0 { (sin, cos) } else { (cos, -sin) };
-    if j & 2 == 0 { (sin, cos) } else { (-sin, -cos) }
+fn sin_cos_acute(x: f32) -> (f32, f32) {
+    const C: [f32; 6] = [
+        SIN_ACUTE[0] as f32,
+        SIN_ACUTE[1] as f32,
+        SIN_ACUTE[2] as f32,
+        SIN_ACUTE[3] as f32,
+        SIN_ACUTE[4] as f32,
+        SIN_ACUTE[5] as f32,
+    ];
+    // π/2 = PIO2_HI + PIO2_LO, PIO2_HI the f32 nearest (above) π/2.
+    const PIO2_HI: f32 = FRAC_PI_2;
+    const PIO2_LO: f32 = -4.371_139e-8;
+    let poly = |z: f32| {
+        let z2 = z * z;
+        let z4 = z2 * z2;
+        (C[0] + C[1] * z) + z2 * (C[2] + C[3] * z) + z4 * (C[4] + C[5] * z)
+    };
+    let y = (PIO2_HI - x.abs()) + PIO2_LO;
+    (x * poly(x * x), y * poly(y * y))
 }
 
-/// `atan2(y, x)` for `y, x ≥ 0` (the first quadrant): the angle of the
-/// smaller over the larger, `π/2 −` it when `y > x`.
+/// `(sin 2πt, cos 2πt)` for `t ∈ [0, 1]` without an integer: the nearest half
+/// turn `j ∈ {0, 1, 2}` by the round-to-integer constant, `r = t − j/2`
+/// (exact), [`sin_cos_acute`] at `2πr`, and the sign `(−1)ʲ = 1 − 2j(2 − j)`.
 #[inline(always)]
-fn atan2_quadrant(y: f32, x: f32) -> f32 {
-    let swap = y > x;
-    let (num, den) = if swap { (x, y) } else { (y, x) };
-    let t = if den > 0.0 { num / den } else { 0.0 };
-    let a = atan_unit(t);
-    if swap { FRAC_PI_2 - a } else { a }
+fn sin_cos_turn(t: f32) -> (f32, f32) {
+    const TO_INT: f32 = 1.5 / f32::EPSILON;
+    let j = (2.0 * t + TO_INT) - TO_INT;
+    let (s, c) = sin_cos_acute(TAU * (t - 0.5 * j));
+    let sign = 1.0 - 2.0 * j * (2.0 - j);
+    (sign * s, sign * c)
 }
 
-/// `atan t` for `t ∈ [0, 1]`: above tan(π/8) by `π/4 + atan((t − 1)/(t + 1))`,
-/// then Cephes' `atan x ≈ x + x³ (a0 + a1 x² + a2 x⁴ + a3 x⁶)` on
-/// `|x| ≤ tan(π/8)`.
+/// `atan2(√a, √b)` for `a, b ≥ 0` in f32: `w = min/max ∈ [0, 1]`,
+/// `atan(√w) = √w Q(w)` ([`ATAN_SQRT`] in f32), `π/2 −` it if `a > b`: the
+/// scalar path's kernel ([`crate::real::atan2_sqrt_f32`]) evaluated in f32.
 #[inline(always)]
-fn atan_unit(t: f32) -> f32 {
-    let high = t > 0.414_213_57;
-    let x = if high { (t - 1.0) / (t + 1.0) } else { t };
-    let z = x * x;
-    let a = x + x
-        * z
-        * (((8.053_744_5e-2 * z - 1.387_768_6e-1) * z + 1.997_771_1e-1) * z - 3.333_295e-1);
-    if high { FRAC_PI_4 + a } else { a }
+fn atan2_sqrt(a: f32, b: f32) -> f32 {
+    const C: [f32; 11] = [
+        ATAN_SQRT[0] as f32,
+        ATAN_SQRT[1] as f32,
+        ATAN_SQRT[2] as f32,
+        ATAN_SQRT[3] as f32,
+        ATAN_SQRT[4] as f32,
+        ATAN_SQRT[5] as f32,
+        ATAN_SQRT[6] as f32,
+        ATAN_SQRT[7] as f32,
+        ATAN_SQRT[8] as f32,
+        ATAN_SQRT[9] as f32,
+        ATAN_SQRT[10] as f32,
+    ];
+    let w = a.min(b) / a.max(b).max(f32::MIN_POSITIVE);
+    let (w2, w4) = (w * w, w * w * w * w);
+    let q = ((C[0] + C[1] * w) + w2 * (C[2] + C[3] * w))
+        + w4 * ((C[4] + C[5] * w) + w2 * (C[6] + C[7] * w))
+        + w4 * w4 * ((C[8] + C[9] * w) + w2 * C[10]);
+    let t = sqrt(w) * q;
+    if a > b { FRAC_PI_2 - t } else { t }
 }
 
 #[cfg(test)]
@@ -217,19 +246,26 @@ mod tests {
     }
 
     #[test]
-    fn polynomial_sin_cos_and_atan_are_within_a_few_ulps() {
-        let (mut sin_err, mut cos_err, mut atan_err) = (0.0f64, 0.0f64, 0.0f64);
+    fn lane_kernels_are_within_a_few_ulps() {
+        let (mut sin_err, mut cos_err, mut turn_err, mut atan_err) =
+            (0.0f64, 0.0f64, 0.0f64, 0.0f64);
         let n = 1_000_000;
         for i in 0..=n {
-            let x = (TAU * i as f32 / n as f32).min(TAU);
-            let (s, c) = sin_cos(x);
-            let (s64, c64) = (x as f64).sin_cos();
-            // Absolute error in units of ε: sin and cos are bounded by 1 and
-            // vanish only where the reduction leaves r ≈ 0.
-            sin_err = sin_err.max((s as f64 - s64).abs() / f32::EPSILON as f64);
-            cos_err = cos_err.max((c as f64 - c64).abs() / f32::EPSILON as f64);
             let t = i as f32 / n as f32;
-            atan_err = atan_err.max(ulps(atan_unit(t), (t as f64).atan()));
+            let x = t * FRAC_PI_2;
+            let (s, c) = sin_cos_acute(x);
+            let (s64, c64) = (x as f64).sin_cos();
+            sin_err = sin_err.max(ulps(s, s64));
+            cos_err = cos_err.max(ulps(c, c64));
+            // The azimuth: absolute error in units of ε (it only turns x1).
+            let (s, c) = sin_cos_turn(t);
+            let (s64, c64) = (core::f64::consts::TAU * t as f64).sin_cos();
+            let abs = (s as f64 - s64).abs().max((c as f64 - c64).abs());
+            turn_err = turn_err.max(abs / f32::EPSILON as f64);
+            // atan2(√a, √b) over versine pairs a + b = 2.
+            let (a, b) = (2.0 * t, 2.0 - 2.0 * t);
+            let exact = (a as f64).sqrt().atan2((b as f64).sqrt());
+            atan_err = atan_err.max(ulps(atan2_sqrt(a, b), exact));
         }
         let mut sqrt_err = 0.0f64;
         let mut a = f32::MIN_POSITIVE;
@@ -239,9 +275,11 @@ mod tests {
         }
         assert_eq!(sqrt(0.0), 0.0);
         std::println!(
-            "sin {sin_err:.2} ε, cos {cos_err:.2} ε, atan {atan_err:.2} ulp, sqrt {sqrt_err:.2} ulp"
+            "sin {sin_err:.2} ulp, cos {cos_err:.2} ulp, turn {turn_err:.2} ε, atan2_sqrt {atan_err:.2} ulp, sqrt {sqrt_err:.2} ulp"
         );
-        assert!(sin_err < 2.0 && cos_err < 2.0 && atan_err < 3.0 && sqrt_err < 2.0);
+        assert!(
+            sin_err < 4.0 && cos_err < 4.0 && turn_err < 2.0 && atan_err < 4.0 && sqrt_err < 2.0
+        );
     }
 
     #[test]
@@ -333,6 +371,9 @@ mod tests {
                 weight: &mut w,
             },
         );
-        assert!(r.is_err());
+        match r {
+            Err(Error::Table { field, .. }) => assert_eq!(field, "batch"),
+            other => panic!("{other:?}"),
+        }
     }
 }

@@ -1,7 +1,7 @@
 //! Distance sampling: exponential free flight along a ray from the receiver,
 //! truncated to the medium segment.
 
-use super::{Connection, Directions, Sample, Technique, saturate};
+use super::{Connection, Directions, Sample, Technique, Vertex, saturate};
 use crate::error::{Error, check_closed};
 use crate::medium::Region;
 use crate::phase::PhaseFunction;
@@ -93,6 +93,26 @@ impl<F: Real, P: PhaseFunction<F>> Distance<F, P> {
     }
 }
 
+impl<F: Real, P: PhaseFunction<F>> Distance<F, P> {
+    /// `pdf_ω(ω) pdf(t) / t²` at `x1 = x2 + to_x1` (`t = |to_x1|`) inside the
+    /// medium segment, else 0.
+    fn density_from_x2(&self, to_x1: F::Vec3) -> F {
+        let t = to_x1.length();
+        if !(t > F::ZERO && t.is_finite()) {
+            return F::ZERO;
+        }
+        let omega = to_x1 * (F::ONE / t);
+        let Some((ta, tb)) = self.region.segment(self.connection.axis.x2, omega) else {
+            return F::ZERO;
+        };
+        let length = tb - ta;
+        if !(t >= ta && t <= tb && self.mass(length).is_finite()) {
+            return F::ZERO;
+        }
+        saturate(self.directions.pdf(omega) * self.density(t - ta, length) / (t * t))
+    }
+}
+
 impl<F: Real, P: PhaseFunction<F>> Technique<F> for Distance<F, P> {
     /// ω from `(u0, u1)`, `t = t_a − ln_1p(−u2 (1 − e^{−σL})) / σ`; each `u`
     /// clamped to [0, 1] (NaN to 0).
@@ -131,22 +151,31 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Distance<F, P> {
         })
     }
 
+    /// [`sample`](Technique::sample) with `x1 − x2 = t ω` and
+    /// `x1 − x0 = (x2 − x0) + t ω` as placed.
+    fn sample_vertex(&self, u: [F; 3], _: &Connection<F>) -> Option<(Sample<F>, Vertex<F>)> {
+        let s = self.sample(u)?;
+        let axis = &self.connection.axis;
+        let from_x2 = s.x1 - axis.x2; // t ω, exact up to one rounding of x1
+        let from_x0 = (axis.x2 - axis.x0) + from_x2;
+        Some((
+            s,
+            Vertex {
+                x1: s.x1,
+                from_x0,
+                from_x2,
+            },
+        ))
+    }
+
     /// `pdf_ω(ω) pdf(t) / t²` inside the medium segment, else 0.
     fn pdf(&self, x1: F::Vec3) -> F {
-        let to_x1 = x1 - self.connection.axis.x2;
-        let t = to_x1.length();
-        if !(t > F::ZERO && t.is_finite()) {
-            return F::ZERO;
-        }
-        let omega = to_x1 * (F::ONE / t);
-        let Some((ta, tb)) = self.region.segment(self.connection.axis.x2, omega) else {
-            return F::ZERO;
-        };
-        let length = tb - ta;
-        if !(t >= ta && t <= tb && self.mass(length).is_finite()) {
-            return F::ZERO;
-        }
-        saturate(self.directions.pdf(omega) * self.density(t - ta, length) / (t * t))
+        self.density_from_x2(x1 - self.connection.axis.x2)
+    }
+
+    /// [`pdf`](Technique::pdf) with `t ω = v.from_x2`.
+    fn pdf_vertex(&self, v: &Vertex<F>) -> F {
+        self.density_from_x2(v.from_x2)
     }
 
     /// `(u0, u1)` from the direction, `u2 = (1 − e^{−σ(t − t_a)}) / (1 − e^{−σL})`.

@@ -26,8 +26,8 @@ pub struct Draw<F: Real> {
     /// The numbers in the order they were taken, `u[0..3]` for the first
     /// vertex and `u[3..6]` for the second's; zero past [`Draw::taken`].
     pub u: [F; 6],
-    /// How many of `u` were taken (3 for a single technique, 6 for
-    /// [`crate::mis::OmneeMis`]).
+    /// How many of `u` were taken (3 for a single technique; for
+    /// [`crate::mis::OmneeMis`] 6 with a companion vertex drawn, else 4).
     pub taken: usize,
     /// The vertices: the technique's own (OMNEE's for
     /// [`crate::mis::OmneeMis`]) and the companion's; `None` where the

@@ -1,7 +1,7 @@
 //! Equiangular sampling (Kulla & Fajardo 2012) along a ray from the receiver:
 //! the baseline OMNEE is measured against.
 
-use super::{Connection, Directions, Sample, Technique, saturate};
+use super::{Connection, Directions, Sample, Technique, Vertex, saturate};
 use crate::medium::Region;
 use crate::phase::{Deflection, PhaseFunction};
 use crate::real::{Real, Vector};
@@ -53,10 +53,21 @@ struct Line<F: Real> {
 }
 
 impl<F: Real> Line<F> {
-    fn new(x0: F::Vec3, x2: F::Vec3, omega: F::Vec3, (ta, tb): (F, F)) -> Option<Self> {
+    fn new(x0: F::Vec3, x2: F::Vec3, omega: F::Vec3, segment: (F, F)) -> Option<Self> {
         let to_light = x0 - x2;
-        let delta = to_light.dot(omega);
-        let cross = to_light.cross(omega);
+        Self::from_foot(to_light.dot(omega), to_light.cross(omega), segment)
+    }
+
+    /// The line through a vertex `x1 = x2 + t ω` given with its offset
+    /// `x1 − x0`: `x0 − x2 = t ω − (x1 − x0)`, so `Δ = t − (x1 − x0)·ω` and
+    /// `(x0 − x2) × ω = ω × (x1 − x0)`, both from the small offset when the
+    /// ray passes next to `x0` (where `(x0 − x2) × ω` would cancel).
+    fn at_vertex(from_x0: F::Vec3, t: F, omega: F::Vec3, segment: (F, F)) -> Option<Self> {
+        Self::from_foot(t - from_x0.dot(omega), omega.cross(from_x0), segment)
+    }
+
+    /// The line from `Δ = (x0 − x2)·ω` and `(x0 − x2) × ω`.
+    fn from_foot(delta: F, cross: F::Vec3, (ta, tb): (F, F)) -> Option<Self> {
         let dist = cross.length();
         let (a, b) = (ta - delta, tb - delta);
         let subtended = if b.is_finite() {
@@ -163,22 +174,8 @@ impl<F: Real, P: PhaseFunction<F>> Equiangular<F, P> {
         }
     }
 
-    fn line(&self, omega: F::Vec3) -> Option<Line<F>> {
-        let axis = &self.connection.axis;
-        Line::new(
-            axis.x0,
-            axis.x2,
-            omega,
-            self.region.segment(axis.x2, omega)?,
-        )
-    }
-}
-
-impl<F: Real, P: PhaseFunction<F>> Technique<F> for Equiangular<F, P> {
-    /// ω from `(u0, u1)`, then `t` and `v = t − Δ` from `u2` on the medium
-    /// segment (tangent addition from the nearer end); `d1 = |v ω − (x0 − foot)|`, `d2 = t`.
-    /// Each `u` is clamped to [0, 1] (NaN to 0).
-    fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
+    /// The sample of [`Technique::sample`] with the vertex's offsets.
+    fn sample_with_offsets(&self, u: [F; 3]) -> Option<(Sample<F>, Vertex<F>)> {
         let axis = &self.connection.axis;
         let omega = self.directions.sample([u[0], u[1]]);
         let pdf_omega = self.directions.pdf(omega);
@@ -202,23 +199,83 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Equiangular<F, P> {
         } else {
             F::ZERO
         };
-        Some(Sample {
+        let sample = Sample {
             x1,
             pdf: saturate(pdf_omega * line.c * r * r),
             weight,
-        })
+        };
+        let vertex = Vertex {
+            x1,
+            from_x0,
+            from_x2: omega * t,
+        };
+        Some((sample, vertex))
     }
 
-    /// `pdf_ω(ω) · c / (d1² d2²)` for `x1` inside the medium segment, else 0.
-    fn pdf(&self, x1: F::Vec3) -> F {
-        let axis = &self.connection.axis;
-        let to_x1 = x1 - axis.x2;
-        let (t, d1) = (to_x1.length(), (x1 - axis.x0).length());
+    /// `pdf_ω(ω) · c / (d1² d2²)` at `x1 = x2 + to_x1` with `d1 = |x1 − x0|`,
+    /// inside the medium segment, else 0.
+    fn density(&self, to_x1: F::Vec3, d1: F) -> F {
+        let t = to_x1.length();
         if !(t > F::ZERO && d1 > F::ZERO && t.is_finite()) {
             return F::ZERO;
         }
         let omega = to_x1 * (F::ONE / t);
         let Some(line) = self.line(omega) else {
+            return F::ZERO;
+        };
+        if !(t >= line.ta && t <= line.tb) {
+            return F::ZERO;
+        }
+        let r = F::ONE / (d1 * t);
+        saturate(self.directions.pdf(omega) * line.c * r * r)
+    }
+
+    fn line(&self, omega: F::Vec3) -> Option<Line<F>> {
+        let axis = &self.connection.axis;
+        Line::new(
+            axis.x0,
+            axis.x2,
+            omega,
+            self.region.segment(axis.x2, omega)?,
+        )
+    }
+}
+
+impl<F: Real, P: PhaseFunction<F>> Technique<F> for Equiangular<F, P> {
+    /// ω from `(u0, u1)`, then `t` and `v = t − Δ` from `u2` on the medium
+    /// segment (tangent addition from the nearer end); `d1 = |v ω − (x0 − foot)|`, `d2 = t`.
+    /// Each `u` is clamped to [0, 1] (NaN to 0).
+    fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
+        self.sample_with_offsets(u).map(|(s, _)| s)
+    }
+
+    /// [`sample`](Technique::sample) with `x1 − x2 = t ω` and
+    /// `x1 − x0 = v ω − (x0 − foot)` as computed.
+    fn sample_vertex(&self, u: [F; 3], _: &Connection<F>) -> Option<(Sample<F>, Vertex<F>)> {
+        self.sample_with_offsets(u)
+    }
+
+    /// `pdf_ω(ω) · c / (d1² d2²)` for `x1` inside the medium segment, else 0.
+    fn pdf(&self, x1: F::Vec3) -> F {
+        let axis = &self.connection.axis;
+        self.density(x1 - axis.x2, (x1 - axis.x0).length())
+    }
+
+    /// [`pdf`](Technique::pdf) with `t ω = v.from_x2`, `d1 = |v.from_x0|` and
+    /// the ray's line from the offsets (`Line::at_vertex`).
+    fn pdf_vertex(&self, v: &Vertex<F>) -> F {
+        let t = v.from_x2.length();
+        let d1 = v.from_x0.length();
+        if !(t > F::ZERO && d1 > F::ZERO && t.is_finite()) {
+            return F::ZERO;
+        }
+        let omega = v.from_x2 * (F::ONE / t);
+        let axis = &self.connection.axis;
+        let line = self
+            .region
+            .segment(axis.x2, omega)
+            .and_then(|segment| Line::at_vertex(v.from_x0, t, omega, segment));
+        let Some(line) = line else {
             return F::ZERO;
         };
         if !(t >= line.ta && t <= line.tb) {

@@ -72,6 +72,31 @@ pub trait Technique<F: Real> {
     /// the map is invertible.
     fn invert(&self, x1: F::Vec3) -> Option<[F; 3]>;
 
+    /// [`sample`](Self::sample) with the vertex's offsets from the end points
+    /// of `connection`, the connection the technique samples for. The default
+    /// subtracts the end points from the rounded `x1`; a technique that
+    /// places `x1` as an end point plus an offset returns that offset, which
+    /// keeps its digits next to the end point (OMNEE, equiangular, distance).
+    #[inline]
+    fn sample_vertex(
+        &self,
+        u: [F; 3],
+        connection: &Connection<F>,
+    ) -> Option<(Sample<F>, Vertex<F>)> {
+        let s = self.sample(u)?;
+        Some((s, Vertex::at(connection, s.x1)))
+    }
+
+    /// [`pdf`](Self::pdf) at a vertex given with its offsets from the end
+    /// points: the default evaluates it at the point `v.x1`; techniques whose
+    /// density depends on `d1 = |x1 − x0|`, `d2 = |x1 − x2|` take them from the
+    /// offsets, so that the density of a vertex next to an end point does not
+    /// inherit the rounding of its absolute coordinates.
+    #[inline]
+    fn pdf_vertex(&self, v: &Vertex<F>) -> F {
+        self.pdf(v.x1)
+    }
+
     /// [`sample`](Self::sample) with uniform numbers from a `rand_core` generator.
     #[inline]
     fn sample_with<R: rand_core::Rng + ?Sized>(&self, rng: &mut R) -> Option<Sample<F>>
@@ -79,6 +104,37 @@ pub trait Technique<F: Real> {
         Self: Sized,
     {
         self.sample([uniform(rng), uniform(rng), uniform(rng)])
+    }
+}
+
+/// A vertex `x1` with its offsets from the connection's end points as its
+/// sampler computed them: `from_x0 = x1 − x0`, `from_x2 = x1 − x2`.
+///
+/// In f32 a point next to `x0` or `x2` is stored to about `ε |x0|` in each
+/// coordinate, so `x1 − x0` formed from the stored point keeps only the digits
+/// of `|x1 − x0| / |x0|` that survive, and a density `∝ 1/(d1² d2²)` evaluated
+/// there inherits that error (docs/benchmarks.md §4: 1.5e8 against 1.1e6 in
+/// f32 at worst). The offsets as sampled keep their relative precision.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Vertex<F: Real> {
+    /// The point `x1`.
+    pub x1: F::Vec3,
+    /// `x1 − x0`.
+    pub from_x0: F::Vec3,
+    /// `x1 − x2`.
+    pub from_x2: F::Vec3,
+}
+
+impl<F: Real> Vertex<F> {
+    /// The vertex at the point `x1`, its offsets formed from the point
+    /// (for a point that came without them).
+    #[inline]
+    pub fn at(connection: &Connection<F>, x1: F::Vec3) -> Self {
+        Self {
+            x1,
+            from_x0: x1 - connection.axis.x0,
+            from_x2: x1 - connection.axis.x2,
+        }
     }
 }
 
@@ -134,6 +190,19 @@ impl<F: Real> Connection<F> {
     #[inline]
     pub fn deflection(&self, x1: F::Vec3) -> Option<(Deflection<F>, F, F)> {
         let (a, b) = (x1 - self.axis.x0, self.axis.x2 - x1);
+        let (d1, d2) = (a.length(), b.length());
+        if !(d1 > F::ZERO && d2 > F::ZERO && d1.is_finite() && d2.is_finite()) {
+            return None;
+        }
+        Some((Deflection::between_segments(a, d1, b, d2), d1, d2))
+    }
+
+    /// [`deflection`](Self::deflection) at a vertex from its offsets,
+    /// `ω1 ∝ x1 − x0`, `ω2 ∝ x2 − x1` as sampled; `None` if either offset is
+    /// zero or not finite.
+    #[inline]
+    pub fn deflection_at(&self, v: &Vertex<F>) -> Option<(Deflection<F>, F, F)> {
+        let (a, b) = (v.from_x0, -v.from_x2);
         let (d1, d2) = (a.length(), b.length());
         if !(d1 > F::ZERO && d2 > F::ZERO && d1.is_finite() && d2.is_finite()) {
             return None;

@@ -1,10 +1,10 @@
 //! Once-more scattered NEE: the deflection first, then the circumcircle arc
 //! (docs/math.md §3).
 
-use super::{Connection, Sample, Technique, saturate};
+use super::{Connection, Sample, Technique, Vertex, saturate};
 use crate::circumcircle::Triangle;
 use crate::phase::{Deflection, PhaseFunction};
-use crate::real::{Real, sinc_with_sin};
+use crate::real::{Real, Vector, sinc_with_sin};
 
 /// OMNEE sampling of `x1` for a [`Connection`].
 ///
@@ -19,6 +19,11 @@ use crate::real::{Real, sinc_with_sin};
 /// so every geometric factor cancels and the weight is bounded by
 /// `π/(2s)` for θmax = π/2. The weight is computed in closed form, never by
 /// dividing by the (near the end points divergent) pdf.
+///
+/// A phase function that draws θ from a density `q` other than its own `p`
+/// (a [`TableSampled`](crate::phase::TableSampled) one) has `q` in place of
+/// `p` in the pdf and the ratio in the weight,
+/// `k / pdf = (p(θ)/q(θ)) θ / (s sin θ)` ([`PhaseFunction::sample_ratio`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Omnee<F: Real, P> {
     /// The end points and θmax.
@@ -47,27 +52,66 @@ impl<F: Real, P: PhaseFunction<F>> Omnee<F, P> {
     /// decide by θ what to do with the sample ([`crate::mis::OmneeMis`]).
     #[inline]
     pub fn sample_deflection(&self, u: [F; 3]) -> Option<(Sample<F>, Deflection<F>)> {
+        self.sample_vertex_deflection(u).map(|(s, _, d)| (s, d))
+    }
+
+    /// [`sample_deflection`](Self::sample_deflection) with the vertex's
+    /// offsets as placed, `x1 − x0 = d1 (cos α e + sin α ρ)` and
+    /// `x1 − x2 = d2 (sin β ρ − cos β e)` (ρ the radial direction at φ), each
+    /// from its own end of the triangle, so both keep their digits next to
+    /// that end ([`Vertex`]).
+    #[inline(always)]
+    pub fn sample_vertex_deflection(
+        &self,
+        u: [F; 3],
+    ) -> Option<(Sample<F>, Vertex<F>, Deflection<F>)> {
         let axis = &self.connection.axis;
-        let (d, phase_pdf) = self.phase.sample_pdf(u[0]);
+        let (d, phase_pdf, ratio) = self.phase.sample_ratio(u[0]);
         if !(d.theta < self.connection.theta_max) {
             return None;
         }
-        let triangle = Triangle::solve(axis.s, d, u[1])?;
+        let (triangle, sin_beta, cos_beta) = Triangle::solve_with_beta(axis.s, d, u[1])?;
         if !(triangle.d1 > F::ZERO && triangle.d2 > F::ZERO) {
             return None; // x1 on an end point, where the integrand is singular
         }
+        let (sin_phi, cos_phi) = u[2].sin_cos_turn();
+        let radial = axis.b1 * cos_phi + axis.b2 * sin_phi;
+        let from_x0 = axis.e * (triangle.d1 * triangle.cos_alpha)
+            + radial * (triangle.d1 * triangle.sin_alpha);
+        let x1 = axis.x0 + from_x0;
+        if !x1.is_finite() {
+            return None;
+        }
+        let from_x2 = radial * (triangle.d2 * sin_beta) - axis.e * (triangle.d2 * cos_beta);
         let sample = Sample {
-            x1: axis.place(&triangle, F::TAU * u[2])?,
+            x1,
             pdf: self.density(phase_pdf, triangle.sinc_theta, triangle.d1, triangle.d2),
-            weight: saturate(F::ONE / (axis.s * triangle.sinc_theta)),
+            weight: saturate(ratio / (axis.s * triangle.sinc_theta)),
         };
-        Some((sample, d))
+        let vertex = Vertex {
+            x1,
+            from_x0,
+            from_x2,
+        };
+        Some((sample, vertex, d))
+    }
+
+    /// [`Technique::pdf`] from a deflection and the distances to the end
+    /// points: `p(θ) sinc θ · s / (d1² d2²)` for θ < θmax, else 0.
+    #[inline]
+    fn density_at(&self, found: Option<(Deflection<F>, F, F)>) -> F {
+        match found {
+            Some((d, d1, d2)) if d.theta < self.connection.theta_max => {
+                self.density(self.phase.pdf(d), sinc_with_sin(d.theta, d.sin()), d1, d2)
+            }
+            _ => F::ZERO,
+        }
     }
 }
 
 impl<F: Real, P: PhaseFunction<F>> Technique<F> for Omnee<F, P> {
     /// `θ = Θ(u0)` from the phase function, `β/θ = u1`, `φ = 2π u2`;
-    /// weight `1 / (s sinc θ)`.
+    /// weight `(p/q) / (s sinc θ)` (`p/q = 1` for exact phase samplers).
     #[inline]
     fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
         self.sample_deflection(u).map(|(sample, _)| sample)
@@ -77,12 +121,20 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Omnee<F, P> {
     /// ([`Connection::deflection`]); 0 for θ ≥ θmax and at the end points.
     #[inline]
     fn pdf(&self, x1: F::Vec3) -> F {
-        match self.connection.deflection(x1) {
-            Some((d, d1, d2)) if d.theta < self.connection.theta_max => {
-                self.density(self.phase.pdf(d), sinc_with_sin(d.theta, d.sin()), d1, d2)
-            }
-            _ => F::ZERO,
-        }
+        self.density_at(self.connection.deflection(x1))
+    }
+
+    /// The vertex as placed ([`Self::sample_vertex_deflection`]).
+    #[inline]
+    fn sample_vertex(&self, u: [F; 3], _: &Connection<F>) -> Option<(Sample<F>, Vertex<F>)> {
+        self.sample_vertex_deflection(u).map(|(s, v, _)| (s, v))
+    }
+
+    /// [`pdf`](Technique::pdf) with θ, `d1` and `d2` from the vertex's
+    /// offsets ([`Connection::deflection_at`]).
+    #[inline]
+    fn pdf_vertex(&self, v: &Vertex<F>) -> F {
+        self.density_at(self.connection.deflection_at(v))
     }
     /// `(cdf(θ), β/θ, φ/2π)`; `None` for θ ≥ θmax or a phase function whose
     /// sampler is not invertible (mixtures).

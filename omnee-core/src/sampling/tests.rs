@@ -662,7 +662,7 @@ fn omnee_mis_returns_its_density_and_the_kernel_over_it() {
         for _ in 0..20_000 {
             let draw = mis.draw(|| uniform(&mut rng));
             let (u, pair) = (draw.u, draw.vertices);
-            assert_eq!(draw.taken, 6);
+            assert_eq!(draw.taken, if u[3] < 0.2 { 6 } else { 4 });
             assert_eq!(pair, mis.sample(u), "g {g}: {u:?}");
             // Rate 0 is OMNEE itself.
             let [a, b, c3] = [u[0], u[1], u[2]];
@@ -741,4 +741,78 @@ fn equiangular_keeps_its_f32_digits_when_the_ray_grazes_the_light() {
     let (pdf, weight) = f32_vs_f64_at(&e32, &e64, &us);
     std::println!("grazing ray: pdf {pdf:.1e}, weight {weight:.1e}");
     assert!(pdf < 1e-5 && weight < 1e-5, "{pdf:e} {weight:e}");
+}
+
+#[test]
+fn densities_at_a_vertex_keep_their_digits_next_to_the_end_points() {
+    // x0 far from the origin and the vertices within 1e-4 s of an end point:
+    // the f32 point itself holds |x1 − x0| to ~ε|x0|/d1 ≈ 1e-2 relative, the
+    // offsets as sampled to ~ε. Each technique's density at the other's
+    // vertex, f32 against f64 (same uniforms, same geometry).
+    use glam::Vec3;
+    let (x0, x2) = (Vec3::new(100.0, -50.0, 30.0), Vec3::new(100.5, -49.6, 30.3));
+    let c32 = Connection::<f32>::new(x0, x2, core::f32::consts::PI).unwrap();
+    let c64 = Connection::<f64>::new(x0.as_dvec3(), x2.as_dvec3(), core::f64::consts::PI).unwrap();
+    let (h32, h64) = (
+        HenyeyGreenstein::new(-0.5f32).unwrap(),
+        HenyeyGreenstein::new(-0.5).unwrap(),
+    );
+    let (o32, o64) = (Omnee::new(c32, h32), Omnee::new(c64, h64));
+    let e32 = Equiangular::new(c32, h32, Directions::Sphere, Region::Everywhere);
+    let e64 = Equiangular::new(c64, h64, Directions::Sphere, Region::Everywhere);
+    let rel = |a: f32, b: f64| (a as f64 - b).abs() / b.abs();
+    let (mut at_point, mut at_vertex, mut checked) = (0.0f64, 0.0f64, 0);
+    for &u1 in &[1e-5f32, 3e-5, 1e-4, 1.0 - 1e-4, 1.0 - 3e-5] {
+        for i in 0..64 {
+            let u = [(i as f32 + 0.5) / 64.0, u1, 0.37];
+            let (Some((_, v32, _)), Some((_, v64, _))) = (
+                o32.sample_vertex_deflection(u),
+                o64.sample_vertex_deflection(u.map(f64::from)),
+            ) else {
+                continue;
+            };
+            // Equiangular's density at OMNEE's vertex (f64 from its own
+            // offsets, exact to ~1e-16).
+            let want = e64.pdf_vertex(&v64);
+            if !(want > 0.0 && want.is_finite()) {
+                continue;
+            }
+            at_point = at_point.max(rel(e32.pdf(v32.x1), want));
+            at_vertex = at_vertex.max(rel(e32.pdf_vertex(&v32), want));
+            checked += 1;
+        }
+    }
+    std::println!(
+        "equiangular's pdf at OMNEE vertices next to an end ({checked}): f32 at the point {at_point:.1e}, at the vertex {at_vertex:.1e}"
+    );
+    assert!(checked > 100);
+    assert!(at_vertex < 1e-4, "{at_vertex:e}");
+    assert!(at_point > 10.0 * at_vertex, "{at_point:e} vs {at_vertex:e}");
+    // And the other way: OMNEE's density at equiangular's vertices.
+    let (mut at_point, mut at_vertex, mut checked) = (0.0f64, 0.0f64, 0);
+    for i in 0..4096 {
+        let u = [
+            (i % 64) as f32 / 64.0 + 0.004,
+            (i / 64) as f32 / 64.0 + 0.004,
+            1e-5,
+        ];
+        let (Some((_, v32)), Some((_, v64))) = (
+            e32.sample_vertex(u, &c32),
+            e64.sample_vertex(u.map(f64::from), &c64),
+        ) else {
+            continue;
+        };
+        let want = o64.pdf_vertex(&v64);
+        if !(want > 0.0 && want.is_finite()) {
+            continue;
+        }
+        at_point = at_point.max(rel(o32.pdf(v32.x1), want));
+        at_vertex = at_vertex.max(rel(o32.pdf_vertex(&v32), want));
+        checked += 1;
+    }
+    std::println!(
+        "OMNEE's pdf at equiangular vertices next to x2 ({checked}): f32 at the point {at_point:.1e}, at the vertex {at_vertex:.1e}"
+    );
+    assert!(checked > 100);
+    assert!(at_vertex < 1e-4, "{at_vertex:e}");
 }
