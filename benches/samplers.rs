@@ -17,7 +17,7 @@
 //!   medium, θmax = π (no early rejection); equiangular and distance draw ray
 //!   directions uniformly on the sphere, distance sampling uses σ = 1, and
 //!   `mis` is the CLI's (`OmneeMis::recommended`: OMNEE's vertex, and with
-//!   probability 0.1 an equiangular one behind 3π/4; its "sample" is that
+//!   probability 0.05 an equiangular one behind 3π/4; its "sample" is that
 //!   pair from six numbers, its "pdf" the combined density at OMNEE's
 //!   vertices).
 //! - `phase/<f32|f64>/<phase>`: the phase function alone, `sample_pdf(u)`.
