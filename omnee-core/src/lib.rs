@@ -11,10 +11,15 @@
 //! `x0` and `x2`. The estimator of the once-scattered transfer is
 //! `f_c · θ / (s sin θ)`.
 //!
+//! The derivation of every formula here, with the numerical traps and how the
+//! code avoids them, is `docs/math.md` in the omnee repository; doc comments
+//! cite its sections as `docs/math.md §N`.
+//!
 //! Modules, one per idea:
 //! - [`real`]: the two precisions (`f32` for renderers, `f64` for references);
 //! - [`circumcircle`]: the map (θ, β, φ) ↔ x1 and the triangle's measures;
-//! - [`phase`]: phase functions with cancellation-free angles;
+//! - [`phase`]: phase functions with cancellation-free angles, and tabulated
+//!   inverse CDFs that sample any of them at Henyey–Greenstein's cost;
 //! - [`sampling`]: OMNEE and its baselines, equiangular and distance sampling,
 //!   and a vectorised batch entry point for OMNEE with Henyey–Greenstein;
 //! - [`lobe`]: a lobe at `x0`: its technique, its MIS with OMNEE, a 3-D reference;
