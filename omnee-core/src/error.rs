@@ -34,6 +34,14 @@ pub enum Error {
         /// What is wrong, in a few words.
         reason: &'static str,
     },
+    /// Arrays that go together do not fit each other: slices of a batch
+    /// whose lengths differ, or output storage that overlaps an input.
+    Arrays {
+        /// The call's name for its arrays (e.g. `"batch"`).
+        field: &'static str,
+        /// What is wrong, in a few words.
+        reason: &'static str,
+    },
     /// A specification string is malformed (unknown name, wrong number of
     /// parameters, a parameter that is not a number).
     Syntax {
@@ -52,6 +60,7 @@ impl Error {
             | Error::NotFinite { field }
             | Error::Degenerate { field, .. }
             | Error::Table { field, .. }
+            | Error::Arrays { field, .. }
             | Error::Syntax { field, .. } => field,
         }
     }
@@ -70,6 +79,7 @@ impl fmt::Display for Error {
             Error::NotFinite { field } => write!(f, "{field} has a non-finite component"),
             Error::Degenerate { field, reason } => write!(f, "{field}: {reason}"),
             Error::Table { field, reason } => write!(f, "table {field}: {reason}"),
+            Error::Arrays { field, reason } => write!(f, "{field}: {reason}"),
             Error::Syntax { field, reason } => write!(f, "syntax error in {field}: {reason}"),
         }
     }

@@ -99,7 +99,7 @@ impl Failure {
             Failure::Core(Error::OutOfRange { .. }) => OMNEE_ERROR_OUT_OF_RANGE,
             Failure::Core(Error::NotFinite { .. }) => OMNEE_ERROR_NOT_FINITE,
             Failure::Core(Error::Degenerate { .. }) => OMNEE_ERROR_DEGENERATE,
-            Failure::Core(Error::Table { .. }) => OMNEE_ERROR_TABLE,
+            Failure::Core(Error::Table { .. } | Error::Arrays { .. }) => OMNEE_ERROR_TABLE,
             Failure::Core(Error::Syntax { .. }) => OMNEE_ERROR_SYNTAX,
             Failure::Null(_) => OMNEE_ERROR_NULL,
             Failure::Uninitialised(_) => OMNEE_ERROR_UNINITIALISED,

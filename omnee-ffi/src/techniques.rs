@@ -703,7 +703,7 @@ pub unsafe extern "C" fn omnee_omnee_sample_batch_f32(
             let clash = inputs.iter().any(|&b| overlap(a, m, b, n))
                 || outputs[i + 1..].iter().any(|&b| overlap(a, m, b, m));
             if clash {
-                return Err(Error::Table {
+                return Err(Error::Arrays {
                     field: "batch",
                     reason: "arrays overlap",
                 }

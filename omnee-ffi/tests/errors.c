@@ -273,17 +273,17 @@ int main(void) {
     uu.u0 = a, uu.u1 = b, uu.u2 = cc, uu.len = N;
     vv.x = x, vv.y = y, vv.z = z, vv.pdf = p, vv.weight = w, vv.len = N - 1;
     EXPECT(omnee_omnee_sample_batch_f32(&c, &hg, uu, vv, &count, &e), OMNEE_ERROR_TABLE, "batch",
-           "table batch: uniform and output slices differ in length");
+           "batch: uniform and output slices differ in length");
     CHECK(count == 0);
     vv.len = N;
     EXPECT(omnee_omnee_sample_batch_f32(&c, &mix, uu, vv, &count, &e), OMNEE_ERROR_UNSUPPORTED,
            "phase", "phase: the batch needs Henyey-Greenstein (hg)");
     vv.y = x;
     EXPECT(omnee_omnee_sample_batch_f32(&c, &hg, uu, vv, &count, &e), OMNEE_ERROR_TABLE, "batch",
-           "table batch: arrays overlap");
+           "batch: arrays overlap");
     vv.y = y, vv.pdf = (float *)b;
     EXPECT(omnee_omnee_sample_batch_f32(&c, &hg, uu, vv, &count, &e), OMNEE_ERROR_TABLE, "batch",
-           "table batch: arrays overlap");
+           "batch: arrays overlap");
     vv.pdf = p, uu.u0 = NULL;
     EXPECT(omnee_omnee_sample_batch_f32(&c, &hg, uu, vv, &count, &e), OMNEE_ERROR_NULL, "u0",
            "u0: null pointer");

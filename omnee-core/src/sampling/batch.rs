@@ -54,7 +54,7 @@ impl Omnee<f32, HenyeyGreenstein<f32>> {
     /// CDF in versine form with `θ = 2 atan2(√a, √b)`, the law of sines with
     /// the smaller of α, β through its sine and cosine, φ = 2π u2),
     /// branch-free. Returns the number of lanes that have a sample. Fails
-    /// with [`Error::Table`] (field `"batch"`) if a slice's length differs
+    /// with [`Error::Arrays`] (field `"batch"`) if a slice's length differs
     /// from that of `u.u0` (the C ABI documents that error for it).
     pub fn sample_batch(&self, u: Uniforms<'_>, out: Vertices<'_>) -> Result<usize, Error> {
         let n = u.u0.len();
@@ -68,7 +68,7 @@ impl Omnee<f32, HenyeyGreenstein<f32>> {
             out.weight.len(),
         ];
         if lengths.iter().any(|&len| len != n) {
-            return Err(Error::Table {
+            return Err(Error::Arrays {
                 field: "batch",
                 reason: "uniform and output slices differ in length",
             });
@@ -372,7 +372,7 @@ mod tests {
             },
         );
         match r {
-            Err(Error::Table { field, .. }) => assert_eq!(field, "batch"),
+            Err(Error::Arrays { field, .. }) => assert_eq!(field, "batch"),
             other => panic!("{other:?}"),
         }
     }
