@@ -592,6 +592,16 @@ pub(crate) fn ln_for<F: Real>(x: f64) -> f64 {
     }
 }
 
+/// `∛x` for a starting value that Newton steps polish:
+/// `sign(x) exp(ln|x| / 3)`, within `(|ln|x||/3 + 2)` ulps of the cube root
+/// (0, ±∞ and NaN as [`Real::cbrt`]). libm's correctly rounded `cbrt` is
+/// 1.6 KiB of the browser demo's module with the software `fma` it needs;
+/// its last bits are lost in the polish anyway.
+#[inline]
+pub(crate) fn cbrt_start<F: Real>(x: F) -> F {
+    (x.abs().ln() * F::from_f64(1.0 / 3.0)).exp().copysign(x)
+}
+
 /// Converts a scalar between precisions (through f64, exact when widening).
 #[inline]
 pub fn cast<A: Real, B: Real>(x: A) -> B {
