@@ -593,6 +593,21 @@ pub(crate) fn ln_for<F: Real>(x: f64) -> f64 {
     }
 }
 
+/// `∛x` for a starting value that Newton steps polish:
+/// `t = sign(x) exp(ln|x| / 3)`, then one Newton step on `t³ = x`,
+/// `t − (t − x/t²)/3`, which leaves it within about an ulp of the cube root
+/// (0, ±∞ and NaN as [`Real::cbrt`]). libm's correctly rounded `cbrt` is
+/// 1.6 KiB of the browser demo's module with the software `fma` it needs.
+#[inline]
+pub(crate) fn cbrt_start<F: Real>(x: F) -> F {
+    let t = (x.abs().ln() * F::from_f64(1.0 / 3.0)).exp().copysign(x);
+    if t.is_finite() && t != F::ZERO {
+        t - (t - x / (t * t)) * F::from_f64(1.0 / 3.0)
+    } else {
+        t
+    }
+}
+
 /// Converts a scalar between precisions (through f64, exact when widening).
 #[inline]
 pub fn cast<A: Real, B: Real>(x: A) -> B {

@@ -11,7 +11,7 @@
 //! widened): one copy of each phase function and technique in the module.
 //! Sampling in f32 (a renderer's precision, as the demo did before the lobe
 //! at `x0`) next to the f64 references made the module 70,537 B with the
-//! lobe, over the 64 KiB limit; in f64 it is 65,373 B (README.md).
+//! lobe, over the 64 KiB limit; in f64 it was 65,373 B (README.md).
 //!
 //! One file for the page's four panels (the convergence [`Problem`], the
 //! sample cloud, the phase histogram, the waterlevel and arc geometry), each a

@@ -4,7 +4,7 @@
 use super::invert::invert_cdf;
 use super::{Deflection, HenyeyGreenstein, PhaseFunction};
 use crate::error::{Error, check_closed, check_open};
-use crate::real::Real;
+use crate::real::{Real, cbrt_start};
 
 /// Largest accepted α. The Mie fit uses up to 250; beyond about 10³ the
 /// function is `∝ cos²θ` to within 0.1 % and the closed-form sampler loses its
@@ -168,7 +168,7 @@ pub(crate) fn closed_form<F: Real>(g: F, alpha: F, xi: F) -> F {
     }
     if g.abs() < c(1e-2) {
         let b = (c(3.0) + alpha) / alpha * (F::HALF - xi);
-        let v = -one / (b + (b * b + one / (alpha * alpha * alpha)).sqrt()).cbrt();
+        let v = -one / cbrt_start(b + (b * b + one / (alpha * alpha * alpha)).sqrt());
         return (one / v - v / alpha).clamp_to(-one, one);
     }
     let g2 = g * g;
@@ -189,7 +189,7 @@ pub(crate) fn closed_form<F: Real>(g: F, alpha: F, xi: F) -> F {
     let t4b = c(144.0) * t10;
     let t4 = t4a + (t4a * t4a - c(4.0) * t4b * t4b * t4b).sqrt();
     let cb2 = c(core::f64::consts::LN_2 / 3.0).exp();
-    let t4c = t4.cbrt();
+    let t4c = cbrt_start(t4);
     let t6 =
         (F::TWO * t1a + c(48.0) * cb2 * t10 / t4c + t4c / (c(3.0) * cb2)) / (alpha * (one - g2));
     let t5 = c(6.0) * (one + g2) + t6;

@@ -1,7 +1,7 @@
 //! Rayleigh scattering, `p = 3/(16π) (1 + cos²θ)`.
 
 use super::{Deflection, PhaseFunction};
-use crate::real::Real;
+use crate::real::{Real, cbrt_start};
 
 /// Rayleigh scattering by particles much smaller than the wavelength:
 /// `p(θ) = 3/(16π) (1 + cos²θ)`, symmetric, mean cosine 0.
@@ -25,7 +25,7 @@ fn mass<F: Real>(x: F) -> F {
 #[inline]
 fn solve<F: Real>(v: F) -> F {
     let a = F::from_f64(4.0) * v - F::TWO;
-    let t = ((F::ONE + a * a).sqrt() - a).cbrt();
+    let t = cbrt_start((F::ONE + a * a).sqrt() - a);
     let mut x = (F::ONE - t + F::ONE / t).clamp_to(F::ZERO, F::ONE);
     for _ in 0..2 {
         let r = x * (F::from_f64(6.0) - F::from_f64(3.0) * x + x * x) - F::from_f64(8.0) * v;
