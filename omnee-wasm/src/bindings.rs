@@ -118,7 +118,9 @@ fn js(e: omnee_core::Error) -> JsValue {
             allowed,
         ),
         NotFinite { field } => error(field, " has a non-finite component", None, "", ""),
-        Degenerate { field, reason } => error(field, ": ", None, reason, ""),
+        Degenerate { field, reason } | Arrays { field, reason } => {
+            error(field, ": ", None, reason, "")
+        }
         Table { field, reason } => error("table ", field, None, ": ", reason),
         Syntax { field, reason } => error("syntax error in ", field, None, ": ", reason),
     }
