@@ -349,6 +349,55 @@ mod tests {
     }
 
     #[test]
+    fn table_sampling_tabulates_the_slow_samplers_only() {
+        for (s, tabulated) in [
+            ("iso", false),
+            ("hg:0.9", false),
+            ("tthg:0.99,-0.44,0.96", false),
+            ("ff:0.0183,1.1", true),
+            ("draine:0.5,1", true),
+            ("mie:10", true),
+            ("rayleigh", true),
+        ] {
+            let p = PhaseSpec::parse(s).unwrap();
+            let mut t = TableStorage::<f32>::default();
+            let table = p.sampled(PhaseSampling::Table, &mut t).unwrap();
+            assert_eq!(table.is_tabulated(), tabulated, "{s}");
+            assert_eq!(table.samples_exactly(), !tabulated, "{s}");
+            let mut e = TableStorage::<f32>::default();
+            let exact = p.sampled(PhaseSampling::Exact, &mut e).unwrap();
+            assert!(!exact.is_tabulated(), "{s}");
+            // The same p either way; the table's draw carries p/q.
+            assert_eq!(table.phase(), exact.phase(), "{s}");
+            let (d, q, ratio) = table.sample_ratio(0.3);
+            assert!((ratio / (table.eval(d) / q) - 1.0).abs() < 1e-5, "{s}");
+        }
+    }
+
+    #[test]
+    fn a_table_with_a_zero_density_node_is_sampled_exactly() {
+        // The inverse CDF needs p > 0 at its nodes; this table is 0 on
+        // (45°, 180°], so the renderer falls back to the exact sampler.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("zero.csv");
+        std::fs::write(&path, "0,1\n90,0\n180,1\n").unwrap();
+        let p = PhaseSpec::parse(&format!("table:{}", path.display())).unwrap();
+        let mut t = TableStorage::<f32>::default();
+        let f = p.sampled(PhaseSampling::Table, &mut t).unwrap();
+        assert!(!f.is_tabulated());
+        // A positive table is tabulated.
+        let path = dir.path().join("positive.csv");
+        std::fs::write(&path, "0,50\n10,5\n90,1\n180,0.5\n").unwrap();
+        let p = PhaseSpec::parse(&format!("table:{}", path.display())).unwrap();
+        let mut t = TableStorage::<f32>::default();
+        assert!(
+            p.sampled(PhaseSampling::Table, &mut t)
+                .unwrap()
+                .is_tabulated()
+        );
+    }
+
+    #[test]
     fn bad_specs_name_the_parameter() {
         let e = PhaseSpec::parse("hg:1.5").unwrap_err().to_string();
         assert!(e.contains("g = 1.5") && e.contains("(-1, 1)"), "{e}");

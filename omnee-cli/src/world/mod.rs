@@ -132,9 +132,15 @@ impl<'a> World<'a> {
         })
     }
 
-    /// The phase function of the medium (the view term samples it exactly).
+    /// The phase function of the medium.
     pub fn phase(&self) -> &Phase<'a, f32> {
         self.setup.phase().phase()
+    }
+
+    /// The phase function as the scattering terms sample it (exactly or
+    /// through its table).
+    pub fn sampler(&self) -> &Sampled<'a, f32> {
+        self.setup.phase()
     }
 
     /// Whether the once-more term draws deflections from a table.
