@@ -190,10 +190,11 @@ impl PhaseSpec {
 
     /// The phase function in precision `F` as a renderer samples it with
     /// `sampling`, borrowing `storage` for its tables: with
-    /// [`PhaseSampling::Table`], a phase function [`tabulates`] covers is
-    /// drawn through its [`InverseCdf`], built here (once per medium);
-    /// where the table cannot be built (a density of 0 at one of its
-    /// nodes, as a measured table with zeros may have), exactly.
+    /// [`PhaseSampling::Table`], Fournier–Forand, Draine, Mie, Rayleigh and
+    /// measured tables are drawn through their [`InverseCdf`], built here
+    /// (once per medium); where the table cannot be built (a density of 0
+    /// at one of its nodes, as a measured table with zeros may have),
+    /// exactly.
     pub fn sampled<'a, F: Real>(
         &self,
         sampling: PhaseSampling,
@@ -377,7 +378,8 @@ mod tests {
     #[test]
     fn a_table_with_a_zero_density_node_is_sampled_exactly() {
         // The inverse CDF needs p > 0 at its nodes; this table is 0 on
-        // (45°, 180°], so the renderer falls back to the exact sampler.
+        // (45°, 135°), where its CDF stays at 1/2, the node u = 64/128, so
+        // the renderer falls back to the exact sampler.
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("zero.csv");
         std::fs::write(&path, "0,1\n90,0\n180,1\n").unwrap();
