@@ -261,7 +261,7 @@ fn probe_with_tabulated_phase_sampling_agrees_with_exact_sampling_and_the_quadra
     // The measured table steps down 100× at 7.5°, which the inverse CDF's
     // cubics smooth inside one bin. q keeps every bin's mass at 1/128
     // exactly, so even there p/q only moves mass within a bin: dropping it
-    // biases these means by less than their noise (tried); the core's
+    // moves these means by less than their noise (checked by hand); the core's
     // tests check the ratio itself.
     let dir = tempfile::tempdir().unwrap();
     let steps = dir.path().join("steps.csv");
