@@ -74,7 +74,7 @@ pub struct RenderArgs {
     /// Restrict the once-more integrand to deflections theta < THETA_MAX (radians, (0, pi]).
     #[arg(long)]
     pub theta_max: Option<f64>,
-    /// How the once-more term draws deflections from the medium's phase function (slab scenes).
+    /// How the once-more and view terms draw deflections from the medium's phase function (slab scenes).
     #[arg(long, value_enum, value_name = "HOW", default_value_t = PhaseSampling::Table)]
     pub phase_sampling: PhaseSampling,
     /// Russian roulette threshold as a fraction of the scene's reference radiance (0: off).
