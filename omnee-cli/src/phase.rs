@@ -9,10 +9,19 @@
 //! spans from the midpoint with the previous angle to the midpoint with the
 //! next one (the first starts at 0°, the last ends at 180°), with the value
 //! of its angle: nearest-neighbour in θ, normalised by the core.
+//!
+//! The renderer draws deflections through [`PhaseSpec::sampled`]: phase
+//! functions without a fast exact inverse (Fournier–Forand, Draine,
+//! approximate Mie, Rayleigh, tables) through the core's [`InverseCdf`],
+//! built once per medium, with the ratio `p/q` in every weight
+//! (docs/math.md §11); isotropic, HG and two-term HG exactly.
 
 use crate::error::{CliError, Result, core_error};
+use clap::ValueEnum;
 use omnee_core::Real;
-use omnee_core::phase::{Phase, Spec, Tabulated};
+use omnee_core::phase::{
+    Deflection, InverseCdf, Phase, PhaseFunction, Spec, TableSampled, Tabulated,
+};
 use std::fmt;
 
 /// A validated phase function spec: the text, and the table if it names one.
@@ -23,13 +32,130 @@ pub struct PhaseSpec {
     table: Option<(Vec<f64>, Vec<f64>)>,
 }
 
-/// Owned storage for a tabulated phase function in precision `F`: the core's
-/// [`Tabulated`] borrows its bins from the caller.
+/// Owned storage for a phase function's tables in precision `F`: the core's
+/// [`Tabulated`] borrows its bins from the caller, and [`TableSampled`] its
+/// [`InverseCdf`] (2 KiB in f32).
 #[derive(Debug, Default)]
 pub struct TableStorage<F> {
     theta: Vec<F>,
     values: Vec<F>,
     cdf: Vec<F>,
+    inverse_cdf: Option<InverseCdf<F>>,
+}
+
+/// How a renderer draws deflections from the medium's phase function
+/// (`--phase-sampling`). Either way the estimates are unbiased; `table` is
+/// faster for the phase functions it tabulates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum PhaseSampling {
+    /// Fournier-Forand, Draine, Mie, Rayleigh and measured tables through a 128-bin inverse CDF built once per medium, with p/q in the weight (docs/math.md §11); iso, HG and two-term HG exactly
+    Table,
+    /// every phase function by its own exact sampler
+    Exact,
+}
+
+crate::names::display_by_name!(PhaseSampling);
+
+/// A phase function as a renderer samples it: by its own sampler, or
+/// through its tabulated inverse CDF ([`TableSampled`]: `eval` is `p`,
+/// `sample`/`pdf` are the table's `q`, `sample_ratio` carries `p/q`).
+/// Every method dispatches to the variant's own.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Sampled<'a, F> {
+    /// `p` drawn exactly.
+    Exact(Phase<'a, F>),
+    /// `p` drawn from its table `q`.
+    Table(TableSampled<'a, F, Phase<'a, F>>),
+}
+
+impl<'a, F: Real> Sampled<'a, F> {
+    /// The phase function `p` itself (exactly sampled), whichever way this
+    /// draws it.
+    pub fn phase(&self) -> &Phase<'a, F> {
+        match self {
+            Sampled::Exact(p) => p,
+            Sampled::Table(t) => &t.phase,
+        }
+    }
+
+    /// Whether deflections come from the table.
+    pub fn is_tabulated(&self) -> bool {
+        matches!(self, Sampled::Table(_))
+    }
+}
+
+impl<'a, F> From<Phase<'a, F>> for Sampled<'a, F> {
+    /// Exact sampling.
+    fn from(phase: Phase<'a, F>) -> Self {
+        Sampled::Exact(phase)
+    }
+}
+
+/// Calls `$call` on whichever sampler `$self` holds.
+macro_rules! dispatch {
+    ($self:expr, $p:ident => $call:expr) => {
+        match $self {
+            Sampled::Exact($p) => $call,
+            Sampled::Table($p) => $call,
+        }
+    };
+}
+
+impl<F: Real> PhaseFunction<F> for Sampled<'_, F> {
+    #[inline]
+    fn eval(&self, d: Deflection<F>) -> F {
+        dispatch!(self, p => p.eval(d))
+    }
+    #[inline]
+    fn sample(&self, u: F) -> Deflection<F> {
+        dispatch!(self, p => p.sample(u))
+    }
+    #[inline]
+    fn cdf(&self, d: Deflection<F>) -> F {
+        dispatch!(self, p => p.cdf(d))
+    }
+    #[inline]
+    fn mean_cosine(&self) -> F {
+        dispatch!(self, p => p.mean_cosine())
+    }
+    #[inline]
+    fn pdf(&self, d: Deflection<F>) -> F {
+        dispatch!(self, p => p.pdf(d))
+    }
+    #[inline]
+    fn sample_pdf(&self, u: F) -> (Deflection<F>, F) {
+        dispatch!(self, p => p.sample_pdf(u))
+    }
+    #[inline]
+    fn sample_ratio(&self, u: F) -> (Deflection<F>, F, F) {
+        dispatch!(self, p => p.sample_ratio(u))
+    }
+    #[inline]
+    fn samples_exactly(&self) -> bool {
+        dispatch!(self, p => p.samples_exactly())
+    }
+    #[inline]
+    fn invert(&self, d: Deflection<F>) -> Option<F> {
+        dispatch!(self, p => p.invert(d))
+    }
+    #[inline]
+    fn backscatter_fraction(&self) -> F {
+        dispatch!(self, p => p.backscatter_fraction())
+    }
+}
+
+/// Whether `table` sampling tabulates `phase`: the phase functions whose
+/// exact sampler costs more than a table lookup (a Newton inversion, a
+/// mixture's two lobes, a cubic's roots, a binary search over bins).
+fn tabulates<F>(phase: &Phase<'_, F>) -> bool {
+    matches!(
+        phase,
+        Phase::FournierForand(_)
+            | Phase::Draine(_)
+            | Phase::Mie(_)
+            | Phase::Rayleigh(_)
+            | Phase::Tabulated(_)
+    )
 }
 
 impl PhaseSpec {
@@ -56,20 +182,63 @@ impl PhaseSpec {
         &self,
         storage: &'a mut TableStorage<F>,
     ) -> Result<Phase<'a, F>> {
+        let TableStorage {
+            theta, values, cdf, ..
+        } = storage;
+        self.instantiate_in(theta, values, cdf)
+    }
+
+    /// The phase function in precision `F` as a renderer samples it with
+    /// `sampling`, borrowing `storage` for its tables: with
+    /// [`PhaseSampling::Table`], Fournier–Forand, Draine, Mie, Rayleigh and
+    /// measured tables are drawn through their [`InverseCdf`], built here
+    /// (once per medium); where the table cannot be built (a density of 0
+    /// at one of its nodes, as a measured table with zeros may have),
+    /// exactly.
+    pub fn sampled<'a, F: Real>(
+        &self,
+        sampling: PhaseSampling,
+        storage: &'a mut TableStorage<F>,
+    ) -> Result<Sampled<'a, F>> {
+        let TableStorage {
+            theta,
+            values,
+            cdf,
+            inverse_cdf,
+        } = storage;
+        let phase = self.instantiate_in(theta, values, cdf)?;
+        if sampling == PhaseSampling::Exact || !tabulates(&phase) {
+            return Ok(Sampled::Exact(phase));
+        }
+        let Ok(table) = InverseCdf::new(&phase) else {
+            return Ok(Sampled::Exact(phase));
+        };
+        let table: &'a InverseCdf<F> = inverse_cdf.insert(table);
+        Ok(Sampled::Table(TableSampled::new(phase, table)))
+    }
+
+    /// [`instantiate`](Self::instantiate) with the storage's fields apart.
+    fn instantiate_in<'a, F: Real>(
+        &self,
+        theta: &'a mut Vec<F>,
+        values: &'a mut Vec<F>,
+        cdf: &'a mut Vec<F>,
+    ) -> Result<Phase<'a, F>> {
         match &self.table {
             None => match Spec::<F>::parse(&self.text).map_err(|e| spec_error(&self.text, e))? {
                 Spec::Analytic(p) => Ok(p),
                 Spec::Table { .. } => unreachable!("a table spec always has its table"),
             },
-            Some((theta, values)) => {
-                storage.theta = theta.iter().map(|&x| F::from_f64(x)).collect();
+            Some((edges, bins)) => {
+                *theta = edges.iter().map(|&x| F::from_f64(x)).collect();
                 // The last edge is π exactly in the target precision.
-                if let Some(last) = storage.theta.last_mut() {
+                if let Some(last) = theta.last_mut() {
                     *last = F::PI;
                 }
-                storage.values = values.iter().map(|&x| F::from_f64(x)).collect();
-                storage.cdf = vec![F::ZERO; theta.len()];
-                let t = Tabulated::new(&storage.theta, &storage.values, &mut storage.cdf)
+                *values = bins.iter().map(|&x| F::from_f64(x)).collect();
+                *cdf = vec![F::ZERO; edges.len()];
+                let (theta, values): (&'a [F], &'a [F]) = (theta, values);
+                let t = Tabulated::new(theta, values, cdf)
                     .map_err(|e| core_error(&format!("phase {}", self.text), e))?;
                 Ok(Phase::Tabulated(t))
             }
@@ -178,6 +347,56 @@ mod tests {
             let f = p.instantiate(&mut t).unwrap();
             assert!(f.mean_cosine().is_finite(), "{s}");
         }
+    }
+
+    #[test]
+    fn table_sampling_tabulates_the_slow_samplers_only() {
+        for (s, tabulated) in [
+            ("iso", false),
+            ("hg:0.9", false),
+            ("tthg:0.99,-0.44,0.96", false),
+            ("ff:0.0183,1.1", true),
+            ("draine:0.5,1", true),
+            ("mie:10", true),
+            ("rayleigh", true),
+        ] {
+            let p = PhaseSpec::parse(s).unwrap();
+            let mut t = TableStorage::<f32>::default();
+            let table = p.sampled(PhaseSampling::Table, &mut t).unwrap();
+            assert_eq!(table.is_tabulated(), tabulated, "{s}");
+            assert_eq!(table.samples_exactly(), !tabulated, "{s}");
+            let mut e = TableStorage::<f32>::default();
+            let exact = p.sampled(PhaseSampling::Exact, &mut e).unwrap();
+            assert!(!exact.is_tabulated(), "{s}");
+            // The same p either way; the table's draw carries p/q.
+            assert_eq!(table.phase(), exact.phase(), "{s}");
+            let (d, q, ratio) = table.sample_ratio(0.3);
+            assert!((ratio / (table.eval(d) / q) - 1.0).abs() < 1e-5, "{s}");
+        }
+    }
+
+    #[test]
+    fn a_table_with_a_zero_density_node_is_sampled_exactly() {
+        // The inverse CDF needs p > 0 at its nodes; this table is 0 on
+        // (45°, 135°), where its CDF stays at 1/2, the node u = 64/128, so
+        // the renderer falls back to the exact sampler.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("zero.csv");
+        std::fs::write(&path, "0,1\n90,0\n180,1\n").unwrap();
+        let p = PhaseSpec::parse(&format!("table:{}", path.display())).unwrap();
+        let mut t = TableStorage::<f32>::default();
+        let f = p.sampled(PhaseSampling::Table, &mut t).unwrap();
+        assert!(!f.is_tabulated());
+        // A positive table is tabulated.
+        let path = dir.path().join("positive.csv");
+        std::fs::write(&path, "0,50\n10,5\n90,1\n180,0.5\n").unwrap();
+        let p = PhaseSpec::parse(&format!("table:{}", path.display())).unwrap();
+        let mut t = TableStorage::<f32>::default();
+        assert!(
+            p.sampled(PhaseSampling::Table, &mut t)
+                .unwrap()
+                .is_tabulated()
+        );
     }
 
     #[test]

@@ -6,7 +6,7 @@ use super::summary::{choice_json, print_result};
 use crate::error::{CliError, Result};
 use crate::moments::Moments;
 use crate::parallel::{chunked, with_threads};
-use crate::phase::TableStorage;
+use crate::phase::{PhaseSampling, TableStorage};
 use crate::range::Range;
 use crate::rng::Rng;
 use crate::scene::{self, Scene};
@@ -48,6 +48,9 @@ pub struct ProbeArgs {
     /// Restrict the once-more integrand to theta < THETA_MAX (default: the scene's render.theta_max).
     #[arg(long)]
     pub theta_max: Option<f64>,
+    /// How the once-more term draws deflections from the medium's phase function.
+    #[arg(long, value_enum, value_name = "HOW", default_value_t = PhaseSampling::Table)]
+    pub phase_sampling: PhaseSampling,
     /// Number of samples.
     #[arg(long, default_value_t = 100_000)]
     pub samples: u64,
@@ -97,7 +100,8 @@ pub fn run(a: ProbeArgs) -> Result<()> {
     };
     let dist = check_point(&scene, a.point)?;
     let mut storage = TableStorage::<f32>::default();
-    let world = World::new(&scene, scene.medium.phase.instantiate::<f32>(&mut storage)?)?;
+    let phase = (scene.medium.phase).sampled::<f32>(a.phase_sampling, &mut storage)?;
+    let world = World::new(&scene, phase)?;
     let g = world.phase().mean_cosine() as f64;
     let choice = technique::choose(a.technique, g, scene.medium.sigma_t() * dist);
     let once_more = a.terms.contains(&Term::OnceMore) && world.scatters();
@@ -155,7 +159,7 @@ pub fn run(a: ProbeArgs) -> Result<()> {
         "mean": mean, "stderr": stderr, "samples": samples, "seconds": seconds,
         "technique": tech, "technique_requested": requested, "auto_reason": reason,
         "terms": terms, "units": "W/m^2", "point": a.point, "normal": n, "theta_max": theta_max,
-        "seed": a.seed, "visibility_tests": st.visibility_tests,
+        "phase_sampling": super::render::phase_sampling_json(&world), "seed": a.seed, "visibility_tests": st.visibility_tests,
         "skipped": if !world.scatters() { json!(["sigma_s = 0: once-more term skipped"]) } else { json!([]) },
     });
     print_result(&v, a.json);

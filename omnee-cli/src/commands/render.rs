@@ -8,7 +8,7 @@ use crate::error::{CliError, Result};
 use crate::image::{self, Layers};
 use crate::output::{check_output, with_ext};
 use crate::parallel::with_threads;
-use crate::phase::TableStorage;
+use crate::phase::{PhaseSampling, TableStorage};
 use crate::range::Range;
 use crate::render::budget::Budget;
 use crate::render::{self, Rendered};
@@ -74,6 +74,9 @@ pub struct RenderArgs {
     /// Restrict the once-more integrand to deflections theta < THETA_MAX (radians, (0, pi]).
     #[arg(long)]
     pub theta_max: Option<f64>,
+    /// How the once-more and view terms draw deflections from the medium's phase function (slab scenes).
+    #[arg(long, value_enum, value_name = "HOW", default_value_t = PhaseSampling::Table)]
+    pub phase_sampling: PhaseSampling,
     /// Russian roulette threshold as a fraction of the scene's reference radiance (0: off).
     #[arg(long)]
     pub russian_roulette: Option<f64>,
@@ -210,7 +213,8 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let set = Settings::new(&a, &scene)?;
     crate::term::check("--terms", &set.terms, &crate::term::SLAB, "slab")?;
     let mut storage = TableStorage::<f32>::default();
-    let world = World::new(&scene, scene.medium.phase.instantiate::<f32>(&mut storage)?)?;
+    let phase = (scene.medium.phase).sampled::<f32>(a.phase_sampling, &mut storage)?;
+    let world = World::new(&scene, phase)?;
     let g = world.phase().mean_cosine() as f64;
     let tau = scene.medium.sigma_t() * (scene.light.center[2] - scene.floor.z);
     let choice = technique::choose(set.technique, g, tau);
@@ -240,6 +244,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
                 choice.method.name()
             )),
             None => say(&format!("technique: {}", choice.method.name())),
+        }
+        if world.tabulated() {
+            say("phase sampling: tabulated inverse CDF, p/q in the weight");
         }
     }
     for n in &notes {
@@ -271,7 +278,11 @@ pub fn run(a: RenderArgs) -> Result<()> {
     })?;
     let ev = write_images(&a, &set, &out.layers, &say)?;
     if a.json {
-        println!("{}", summary_json(&set, &choice, &notes, &out, ev));
+        let sampling = phase_sampling_json(&world);
+        println!(
+            "{}",
+            summary_json(&set, &choice, sampling, &notes, &out, ev)
+        );
     } else {
         summary_text(&set, &out, ev, &say);
     }
@@ -304,10 +315,17 @@ pub(super) fn write_images(
     Ok(ev)
 }
 
+/// How the once-more term sampled the phase function, for the summaries:
+/// `table` or `exact`.
+pub(super) fn phase_sampling_json(world: &World<'_>) -> &'static str {
+    if world.tabulated() { "table" } else { "exact" }
+}
+
 /// The `--json` summary.
 fn summary_json(
     set: &Settings,
     choice: &Choice,
+    phase_sampling: &str,
     notes: &[String],
     out: &Rendered,
     ev: f64,
@@ -318,7 +336,7 @@ fn summary_json(
         "width": set.width, "height": set.height, "crop": set.crop, "spp": out.spp,
         "seconds": out.seconds, "seed": set.seed, "terms": terms,
         "technique": choice.method.name(), "technique_requested": choice.requested.to_string(),
-        "auto_reason": choice.reason, "theta_max": set.theta_max, "exposure": ev,
+        "auto_reason": choice.reason, "phase_sampling": phase_sampling, "theta_max": set.theta_max, "exposure": ev,
         "skipped": notes,
         "stats": {
             "connections": st.connections, "skipped_unreachable": st.skipped_unreachable,

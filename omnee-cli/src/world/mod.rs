@@ -30,6 +30,7 @@ pub use slab::Slab;
 pub use surfaces::{Floor, Plate};
 
 use crate::error::{CliError, Result};
+use crate::phase::Sampled;
 use crate::scene::Scene;
 use glam::Vec3;
 use omnee_core::method::Setup;
@@ -69,10 +70,11 @@ pub struct World<'a> {
     pub light: Light,
     /// The occluder.
     pub plate: Option<Plate>,
-    /// The once-more methods' phase function, region and σt, with rays
-    /// from the receiver in all directions (OMNEE's; the ray methods get
-    /// cosine-weighted ones per receiver).
-    setup: Setup<f32, Phase<'a, f32>>,
+    /// The once-more methods' phase function (sampled exactly or through
+    /// its table, [`Sampled`]), region and σt, with rays from the receiver
+    /// in all directions (OMNEE's; the ray methods get cosine-weighted ones
+    /// per receiver).
+    setup: Setup<f32, Sampled<'a, f32>>,
 }
 
 fn v3(a: [f64; 3]) -> Vec3 {
@@ -80,9 +82,13 @@ fn v3(a: [f64; 3]) -> Vec3 {
 }
 
 impl<'a> World<'a> {
-    /// The scene in f32 with its phase function instantiated by the caller.
-    /// Fails when the medium's coefficients do not fit f32.
-    pub fn new(scene: &Scene, phase: Phase<'a, f32>) -> Result<Self> {
+    /// The scene in f32 with its phase function instantiated by the caller:
+    /// a [`Phase`] (sampled exactly) or a [`Sampled`] one
+    /// ([`PhaseSpec::sampled`](crate::phase::PhaseSpec::sampled)), which the
+    /// once-more term draws its deflections from. Fails when the medium's
+    /// coefficients do not fit f32.
+    pub fn new(scene: &Scene, phase: impl Into<Sampled<'a, f32>>) -> Result<Self> {
+        let phase = phase.into();
         let m = &scene.medium;
         let l = &scene.light;
         let slab = Slab {
@@ -128,7 +134,18 @@ impl<'a> World<'a> {
 
     /// The phase function of the medium.
     pub fn phase(&self) -> &Phase<'a, f32> {
+        self.setup.phase().phase()
+    }
+
+    /// The phase function as the scattering terms sample it (exactly or
+    /// through its table).
+    pub fn sampler(&self) -> &Sampled<'a, f32> {
         self.setup.phase()
+    }
+
+    /// Whether the once-more term draws deflections from a table.
+    pub fn tabulated(&self) -> bool {
+        self.setup.phase().is_tabulated()
     }
 
     /// Whether the medium scatters at all.
