@@ -55,8 +55,8 @@ const HEAD_A_MIN: f64 = 0.01;
 /// fitted when the table is built (`RatioFit`), so that a draw from the
 /// table costs no evaluation of `p` there (docs/math.md §11.4).
 ///
-/// Size: `11 N + 2` values of `F`, an index, the fitted bins' 128-bit mask
-/// and a 64-bit fingerprint of `p`: 5680 bytes in f32, 11328 in f64
+/// Size: `11 N + 2` values of `F`, an index, two 128-bit masks (fitted,
+/// split) and a 64-bit fingerprint of `p`: 5696 bytes in f32, 11344 in f64
 /// (`core::mem::size_of::<InverseCdf<f32>>()`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct InverseCdf<F> {
@@ -347,21 +347,31 @@ const RATIO_TOLERANCE: f64 = 4.0;
 /// `t_j = (1 − cos((2j + 1)π/14))/2`, `j = 0, …, 6`, kept for bin `k` if
 /// at every check point `t = i/32`, `i = 0, …, 32`, it differs from
 /// `p(θ) · (1/q)` (computed in `F`, as the fallback computes it) by at
-/// most `4 ε r`. Bin 0 (the power law) never has a fit. In f32 the smooth
-/// phase functions pass in all but a few bins next to a singular peak or
-/// at the backward end (FF 125 of 128, Mie 119, Rayleigh 127); in f64 the
+/// most `4 ε r`. A bin where that fails and `p` jumps once (a measured
+/// table's bin edge) gets two quadratics instead, `r` being
+/// `p_j · 2πN|v'(t)|` with `v'` quadratic on each side of the jump: the
+/// jump is bisected, on `F`'s grid of `t`, between the two check points
+/// that differ most to `t_s`, the first `t` of its upper side, and each
+/// side is interpolated at its three Chebyshev points; the same check, at
+/// the check points and at both sides of `t_s`, decides. Bin 0 (the power
+/// law) never has a fit. In f32 the smooth phase functions pass in all but
+/// a few bins next to a singular peak or at the backward end (FF 125 of
+/// 128, Mie 119, Rayleigh 127; a measured table of 64 bins 123); in f64 the
 /// 4 ε of f64 is reached only where `r` is nearly a polynomial (Rayleigh,
-/// part of Draine), and every other bin evaluates `p`.
+/// part of Draine, measured tables), and every other bin evaluates `p`.
 ///
 /// `fingerprint` hashes `p`'s values (their bits) at all check points of
 /// all bins: [`TableSampled::new`] uses the fits only for a phase function
 /// that reproduces every one of them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct RatioFit<F> {
-    /// `(a₀, …, a₆)` per bin; unused where the bin's bit is clear.
+    /// `(a₀, …, a₆)` or `(l₀, l₁, l₂, h₀, h₁, h₂, t_s)` per bin; unused
+    /// where the bin's bit is clear.
     coefficients: [[F; RATIO_TERMS]; N],
     /// Bit `k`: bin `k` has a fit.
     fitted: u128,
+    /// Bit `k`: bin `k`'s fit is two quadratics about a jump.
+    split: u128,
     /// FNV-1a of `p` at the check points ([`InverseCdf::fingerprint`]).
     fingerprint: u64,
 }
@@ -373,6 +383,7 @@ impl<F: Real> RatioFit<F> {
     const NONE: Self = Self {
         coefficients: [[F::ZERO; RATIO_TERMS]; N],
         fitted: 0,
+        split: 0,
         fingerprint: 0,
     };
 
@@ -382,40 +393,75 @@ impl<F: Real> RatioFit<F> {
         (self.fitted >> k) & 1 == 1
     }
 
-    /// `r_k(t)` in Estrin's scheme.
+    /// `r_k(t)`, bin `k`'s fit at `t`.
     #[inline]
     fn eval(&self, k: usize, t: F) -> F {
-        let [a0, a1, a2, a3, a4, a5, a6] = self.coefficients[k];
-        let t2 = t * t;
-        (a0 + a1 * t) + t2 * (a2 + a3 * t) + (t2 * t2) * ((a4 + a5 * t) + t2 * a6)
+        eval_fit(&self.coefficients[k], (self.split >> k) & 1 == 1, t)
     }
 
-    /// The fits of `p/q` for `table` (whose `ratio` is ignored): the
-    /// interpolant of each bin, kept where its check passes.
+    /// The fits of `p/q` for `table` (whose `ratio` is ignored): each bin's
+    /// polynomial, or its two quadratics about a jump, kept where its check
+    /// passes.
     fn new<P: PhaseFunction<F> + ?Sized>(table: &InverseCdf<F>, p: &P) -> Self {
         let mut fit = Self::NONE;
-        let ratio = |k: usize, t: F| {
-            let (d, inverse_pdf) = table.at(k, t);
-            p.eval(d) * inverse_pdf
-        };
         let tolerance = RATIO_TOLERANCE * F::EPSILON.to_f64();
         for k in 1..N {
-            let nodes: [f64; RATIO_TERMS] = core::array::from_fn(|j| {
-                let angle = (2 * j + 1) as f64 * core::f64::consts::PI / (2 * RATIO_TERMS) as f64;
-                F::from_f64(0.5 * (1.0 - libm::cos(angle))).to_f64()
-            });
-            let values = nodes.map(|t| ratio(k, F::from_f64(t)).to_f64());
-            if values.iter().any(|r| !r.is_finite()) {
+            let r = |t: F| {
+                let (d, inverse_pdf) = table.at(k, t);
+                (p.eval(d) * inverse_pdf).to_f64()
+            };
+            let check_at = |i: usize| F::from_f64(i as f64 / RATIO_CHECKS as f64);
+            let checks: [f64; RATIO_CHECKS + 1] = core::array::from_fn(|i| r(check_at(i)));
+            if checks.iter().any(|r| !r.is_finite()) {
                 continue;
             }
-            fit.coefficients[k] = interpolate(nodes, values).map(F::from_f64);
-            let close = (0..=RATIO_CHECKS).all(|i| {
-                let t = F::from_f64(i as f64 / RATIO_CHECKS as f64);
-                let (want, got) = (ratio(k, t).to_f64(), fit.eval(k, t).to_f64());
-                want.is_finite() && (got - want).abs() <= tolerance * want.abs()
-            });
-            if close {
+            // Whether `c` reproduces r at the check points and at `extra`.
+            let passes = |c: &[F; RATIO_TERMS], split: bool, extra: [F; 2]| {
+                let close = |t: F, want: f64| {
+                    let got = eval_fit(c, split, t).to_f64();
+                    (got - want).abs() <= tolerance * want.abs()
+                };
+                (0..=RATIO_CHECKS).all(|i| close(check_at(i), checks[i]))
+                    && extra.iter().all(|&t| close(t, r(t)))
+            };
+            let nodes = chebyshev::<F, RATIO_TERMS>(0.0, 1.0);
+            let smooth = interpolate(nodes, nodes.map(|t| r(F::from_f64(t)))).map(F::from_f64);
+            if passes(&smooth, false, [F::ZERO; 2]) {
+                fit.coefficients[k] = smooth;
                 fit.fitted |= 1 << k;
+                continue;
+            }
+            // One jump: between the two check points that differ most,
+            // bisected to the first t of its upper side.
+            let i = (0..RATIO_CHECKS)
+                .max_by(|&a, &b| {
+                    let step = |i: usize| (checks[i + 1] - checks[i]).abs();
+                    step(a).total_cmp(&step(b))
+                })
+                .unwrap_or(0);
+            let (mut lo, mut hi) = (check_at(i), check_at(i + 1));
+            let (r_lo, r_hi) = (checks[i], checks[i + 1]);
+            for _ in 0..64 {
+                let mid = F::from_f64(0.5 * (lo.to_f64() + hi.to_f64()));
+                if mid == lo || mid == hi {
+                    break;
+                }
+                let r_mid = r(mid);
+                if (r_mid - r_lo).abs() <= (r_mid - r_hi).abs() {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            let below = chebyshev::<F, 3>(0.0, lo.to_f64());
+            let above = chebyshev::<F, 3>(hi.to_f64(), 1.0);
+            let [l0, l1, l2] = interpolate(below, below.map(|t| r(F::from_f64(t))));
+            let [h0, h1, h2] = interpolate(above, above.map(|t| r(F::from_f64(t))));
+            let split = [l0, l1, l2, h0, h1, h2, hi.to_f64()].map(F::from_f64);
+            if passes(&split, true, [lo, hi]) {
+                fit.coefficients[k] = split;
+                fit.fitted |= 1 << k;
+                fit.split |= 1 << k;
             }
         }
         if fit.fitted != 0 {
@@ -425,21 +471,44 @@ impl<F: Real> RatioFit<F> {
     }
 }
 
-/// The monomial coefficients `(a₀, …, a₆)` of the polynomial through
+/// A bin's fit at `t`: `Σ_{m=0}^{6} a_m t^m` in Estrin's scheme, or, for a
+/// `split` bin with coefficients `(l₀, l₁, l₂, h₀, h₁, h₂, t_s)`,
+/// `l₀ + l₁t + l₂t²` below `t_s` and `h₀ + h₁t + h₂t²` from it on.
+#[inline]
+fn eval_fit<F: Real>(c: &[F; RATIO_TERMS], split: bool, t: F) -> F {
+    let [a0, a1, a2, a3, a4, a5, a6] = *c;
+    if split {
+        let (b0, b1, b2) = if t < a6 { (a0, a1, a2) } else { (a3, a4, a5) };
+        return b0 + t * (b1 + t * b2);
+    }
+    let t2 = t * t;
+    (a0 + a1 * t) + t2 * (a2 + a3 * t) + (t2 * t2) * ((a4 + a5 * t) + t2 * a6)
+}
+
+/// The `M` Chebyshev points of `[a, b]`,
+/// `a + (b − a)(1 − cos((2j + 1)π/2M))/2`, rounded to `F`.
+fn chebyshev<F: Real, const M: usize>(a: f64, b: f64) -> [f64; M] {
+    core::array::from_fn(|j| {
+        let angle = (2 * j + 1) as f64 * core::f64::consts::PI / (2 * M) as f64;
+        F::from_f64(a + (b - a) * 0.5 * (1.0 - libm::cos(angle))).to_f64()
+    })
+}
+
+/// The monomial coefficients `(a₀, …, a_{M−1})` of the polynomial through
 /// `(t_j, r_j)`: Newton's divided differences, then the Newton form
 /// `a₀' + (t − t₀)(a₁' + (t − t₁)(…))` expanded from the inside out.
-fn interpolate(t: [f64; RATIO_TERMS], r: [f64; RATIO_TERMS]) -> [f64; RATIO_TERMS] {
+fn interpolate<const M: usize>(t: [f64; M], r: [f64; M]) -> [f64; M] {
     let mut d = r;
-    for level in 1..RATIO_TERMS {
-        for j in (level..RATIO_TERMS).rev() {
+    for level in 1..M {
+        for j in (level..M).rev() {
             d[j] = (d[j] - d[j - 1]) / (t[j] - t[j - level]);
         }
     }
-    let mut a = [0.0; RATIO_TERMS];
-    a[0] = d[RATIO_TERMS - 1];
-    for j in (0..RATIO_TERMS - 1).rev() {
+    let mut a = [0.0; M];
+    a[0] = d[M - 1];
+    for j in (0..M - 1).rev() {
         // a ← a · (t − t_j) + d_j.
-        for m in (1..RATIO_TERMS).rev() {
+        for m in (1..M).rev() {
             a[m] = a[m - 1] - t[j] * a[m];
         }
         a[0] = d[j] - t[j] * a[0];
