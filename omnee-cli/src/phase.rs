@@ -74,7 +74,7 @@ impl<'a, F: Real> Sampled<'a, F> {
     pub fn phase(&self) -> &Phase<'a, F> {
         match self {
             Sampled::Exact(p) => p,
-            Sampled::Table(t) => &t.phase,
+            Sampled::Table(t) => t.phase(),
         }
     }
 

@@ -18,7 +18,7 @@ use crate::error::Error;
 use crate::real::Real;
 
 /// The number of equal-probability bins of an [`InverseCdf`]. 128 bins keep
-/// the table within 2 KiB in f32 and the table's density within 1e-4 of the
+/// the table's cubics within 2 KiB in f32 and the table's density within 1e-4 of the
 /// phase function's for every phase function of this crate but the first
 /// bin of singular peaks (docs/math.md §11 has the measured deviations).
 pub const INVERSE_CDF_BINS: usize = 128;
@@ -50,12 +50,20 @@ const HEAD_A_MIN: f64 = 0.01;
 /// `q = 1 / (2π N x₁ t^{1/a − 1} / a)`. It is positive on all of (0, π), so
 /// `p/q` importance-weights any integrand of `p` without bias.
 ///
-/// Size: `4 N + 2` values of `F` and an index: 2064 bytes in f32, 4120 in
-/// f64 (`core::mem::size_of::<InverseCdf<f32>>()`).
+/// The ratio `p/q` that an estimate multiplies in is, in every bin where
+/// that is as exact as evaluating it, a polynomial `r_k(t)` of degree 6
+/// fitted when the table is built (`RatioFit`), so that a draw from the
+/// table costs no evaluation of `p` there (docs/math.md §11.4).
+///
+/// Size: `11 N + 2` values of `F`, an index, two 128-bit masks (fitted,
+/// split) and a 64-bit fingerprint of `p`: 5696 bytes in f32, 11344 in f64
+/// (`core::mem::size_of::<InverseCdf<f32>>()`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct InverseCdf<F> {
     /// `(c0, c1, c2, c3)` of each bin's cubic; bin 0's is unused.
     cubic: [[F; 4]; N],
+    /// `p/q` in each bin as a polynomial in `t`, where fitted.
+    ratio: RatioFit<F>,
     /// The first bin written in `1 + cos θ`; the bins before it are in
     /// `1 − cos θ`. At most `N − 1` (the last bin is always backward).
     backward: usize,
@@ -116,34 +124,74 @@ impl<F: Real> InverseCdf<F> {
         }
         let head_x = x[1];
         let a = (dens[1] * head_x * N as f64).clamp_to(HEAD_A_MIN, 1.0);
-        Ok(Self {
+        let mut table = Self {
             cubic,
+            ratio: RatioFit::NONE,
             backward,
             head_x: F::from_f64(head_x),
             head_exponent: F::from_f64(1.0 / a),
-        })
+        };
+        table.ratio = RatioFit::new(&table, phase);
+        Ok(table)
+    }
+
+    /// FNV-1a over the bits of `p(θ)` at the check points of every bin
+    /// (`t = i/32`, see `RatioFit`): equal for the phase function a
+    /// table's ratio fits were made from.
+    fn fingerprint<P: PhaseFunction<F> + ?Sized>(&self, p: &P) -> u64 {
+        let mut hash = 0xcbf2_9ce4_8422_2325u64;
+        for k in 0..N {
+            for i in 0..=RATIO_CHECKS {
+                let (d, _) = self.at(k, F::from_f64(i as f64 / RATIO_CHECKS as f64));
+                for byte in p.eval(d).to_f64().to_bits().to_le_bytes() {
+                    hash = (hash ^ u64::from(byte)).wrapping_mul(0x0100_0000_01b3);
+                }
+            }
+        }
+        hash
+    }
+
+    /// The number of bins whose ratio `p/q` is a fitted polynomial (see
+    /// [`InverseCdf`]; docs/math.md §11.4 has the counts): at most `N − 1`
+    /// (bin 0 evaluates `p`).
+    pub fn fitted_bins(&self) -> usize {
+        self.ratio.fitted.count_ones() as usize
     }
 
     /// A deflection from the table's distribution `q`, and `1/q` there
     /// (`2π N |v'(t)|`, see [`InverseCdf`]); `u` is clamped to `[0, 1]`.
     #[inline]
     pub fn sample_inverse_pdf(&self, u: F) -> (Deflection<F>, F) {
-        let n = F::from_f64(N as f64);
-        let s = u.clamp_to(F::ZERO, F::ONE) * n;
-        // The bin k = ⌊s⌋ for the load (i32: x86-64 has no unsigned
-        // conversion), and t = s − ⌊s⌋ in floating point beside it, with ⌊s⌋
-        // by the round-to-integer constant (s < 2²²): the conversions are
-        // off the way from u to θ.
-        let k = (s.to_f64() as i32).min(N as i32 - 1) as usize;
-        let to_int = F::from_f64(1.5) / F::EPSILON;
-        let nearest = (s + to_int) - to_int;
-        let floor = if nearest > s {
-            nearest - F::ONE
+        let (k, t) = bin_of(u);
+        self.at(k, t)
+    }
+
+    /// [`sample_inverse_pdf`](Self::sample_inverse_pdf) and the ratio
+    /// `p/q` at the deflection: bin `k`'s fitted polynomial `r_k(t)` where
+    /// `fitted` (the caller has checked that the fits are `p`'s, see
+    /// [`TableSampled::new`]) and the bin has one, else `p(θ) · (1/q)` with
+    /// `p` evaluated by `eval`.
+    #[inline]
+    fn sample_ratio(
+        &self,
+        u: F,
+        fitted: bool,
+        eval: impl FnOnce(Deflection<F>) -> F,
+    ) -> (Deflection<F>, F, F) {
+        let (k, t) = bin_of(u);
+        let (d, inverse_pdf) = self.at(k, t);
+        let ratio = if fitted && self.ratio.has(k) {
+            self.ratio.eval(k, t)
         } else {
-            nearest
+            eval(d) * inverse_pdf
         };
-        let t = (s - floor.min(n - F::ONE)).min(F::ONE);
-        let two_pi_n = F::TAU * n;
+        (d, inverse_pdf, ratio)
+    }
+
+    /// The deflection at `t ∈ [0, 1]` in bin `k` and `1/q` there.
+    #[inline]
+    fn at(&self, k: usize, t: F) -> (Deflection<F>, F) {
+        let two_pi_n = F::TAU * F::from_f64(N as f64);
         if k == 0 {
             // x = x₁ t^e: dx/du = N x₁ e t^{e − 1}.
             let e = self.head_exponent;
@@ -258,6 +306,216 @@ impl<F: Real> InverseCdf<F> {
     }
 }
 
+/// The bin `k = ⌊N u⌋` and `t = N u − k ∈ [0, 1]` of `u` (clamped to
+/// `[0, 1]`; `u = 1` is `t = 1` in the last bin).
+#[inline]
+fn bin_of<F: Real>(u: F) -> (usize, F) {
+    let n = F::from_f64(N as f64);
+    let s = u.clamp_to(F::ZERO, F::ONE) * n;
+    // The bin k = ⌊s⌋ for the load (i32: x86-64 has no unsigned
+    // conversion), and t = s − ⌊s⌋ in floating point beside it, with ⌊s⌋
+    // by the round-to-integer constant (s < 2²²): the conversions are
+    // off the way from u to θ.
+    let k = (s.to_f64() as i32).min(N as i32 - 1) as usize;
+    let to_int = F::from_f64(1.5) / F::EPSILON;
+    let nearest = (s + to_int) - to_int;
+    let floor = if nearest > s {
+        nearest - F::ONE
+    } else {
+        nearest
+    };
+    (k, (s - floor.min(n - F::ONE)).min(F::ONE))
+}
+
+/// Coefficients of each bin's polynomial of the ratio `p/q`: degree 6.
+const RATIO_TERMS: usize = 7;
+
+/// Points per bin at which a fit is checked, `t = i/RATIO_CHECKS` for
+/// `i = 0, …, RATIO_CHECKS`.
+const RATIO_CHECKS: usize = 32;
+
+/// A fit is accepted where it is within this many `ε` of the precision
+/// (relative) of the ratio as evaluated.
+const RATIO_TOLERANCE: f64 = 4.0;
+
+/// The ratio `r = p/q = p(θ(t)) · 2πN |v'(t)|` of a table's phase function
+/// to the table's density, as a polynomial in each bin's `t` where that is
+/// as exact as evaluating it (docs/math.md §11.4):
+///
+/// `r_k(t) = Σ_{m=0}^{6} a_m t^m` (evaluated in Estrin's scheme), the
+/// polynomial through `r` at the Chebyshev points
+/// `t_j = (1 − cos((2j + 1)π/14))/2`, `j = 0, …, 6`, kept for bin `k` if
+/// at every check point `t = i/32`, `i = 0, …, 32`, it differs from
+/// `p(θ) · (1/q)` (computed in `F`, as the fallback computes it) by at
+/// most `4 ε r`. A bin where that fails and `p` jumps once (a measured
+/// table's bin edge) gets two quadratics instead, `r` being
+/// `p_j · 2πN|v'(t)|` with `v'` quadratic on each side of the jump: the
+/// jump is bisected, on `F`'s grid of `t`, between the two check points
+/// that differ most to `t_s`, the first `t` of its upper side, and each
+/// side is interpolated at its three Chebyshev points; the same check, at
+/// the check points and at both sides of `t_s`, decides. Bin 0 (the power
+/// law) never has a fit. In f32 the smooth phase functions pass in all but
+/// a few bins next to a singular peak or at the backward end (FF 125 of
+/// 128, Mie 119, Rayleigh 127; a measured table of 64 bins 123); in f64 the
+/// 4 ε of f64 is reached only where `r` is nearly a polynomial (Rayleigh,
+/// part of Draine, measured tables), and every other bin evaluates `p`.
+///
+/// `fingerprint` hashes `p`'s values (their bits) at all check points of
+/// all bins: [`TableSampled::new`] uses the fits only for a phase function
+/// that reproduces every one of them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct RatioFit<F> {
+    /// `(a₀, …, a₆)` or `(l₀, l₁, l₂, h₀, h₁, h₂, t_s)` per bin; unused
+    /// where the bin's bit is clear.
+    coefficients: [[F; RATIO_TERMS]; N],
+    /// Bit `k`: bin `k` has a fit.
+    fitted: u128,
+    /// Bit `k`: bin `k`'s fit is two quadratics about a jump.
+    split: u128,
+    /// FNV-1a of `p` at the check points ([`InverseCdf::fingerprint`]).
+    fingerprint: u64,
+}
+
+const _: () = assert!(N <= 128, "RatioFit's mask has 128 bits");
+
+impl<F: Real> RatioFit<F> {
+    /// No bin fitted.
+    const NONE: Self = Self {
+        coefficients: [[F::ZERO; RATIO_TERMS]; N],
+        fitted: 0,
+        split: 0,
+        fingerprint: 0,
+    };
+
+    /// Whether bin `k` has a fit.
+    #[inline]
+    fn has(&self, k: usize) -> bool {
+        (self.fitted >> k) & 1 == 1
+    }
+
+    /// `r_k(t)`, bin `k`'s fit at `t`.
+    #[inline]
+    fn eval(&self, k: usize, t: F) -> F {
+        eval_fit(&self.coefficients[k], (self.split >> k) & 1 == 1, t)
+    }
+
+    /// The fits of `p/q` for `table` (whose `ratio` is ignored): each bin's
+    /// polynomial, or its two quadratics about a jump, kept where its check
+    /// passes.
+    fn new<P: PhaseFunction<F> + ?Sized>(table: &InverseCdf<F>, p: &P) -> Self {
+        let mut fit = Self::NONE;
+        let tolerance = RATIO_TOLERANCE * F::EPSILON.to_f64();
+        for k in 1..N {
+            let r = |t: F| {
+                let (d, inverse_pdf) = table.at(k, t);
+                (p.eval(d) * inverse_pdf).to_f64()
+            };
+            let check_at = |i: usize| F::from_f64(i as f64 / RATIO_CHECKS as f64);
+            let checks: [f64; RATIO_CHECKS + 1] = core::array::from_fn(|i| r(check_at(i)));
+            if checks.iter().any(|r| !r.is_finite()) {
+                continue;
+            }
+            // Whether `c` reproduces r at the check points and at `extra`.
+            let passes = |c: &[F; RATIO_TERMS], split: bool, extra: [F; 2]| {
+                let close = |t: F, want: f64| {
+                    let got = eval_fit(c, split, t).to_f64();
+                    (got - want).abs() <= tolerance * want.abs()
+                };
+                (0..=RATIO_CHECKS).all(|i| close(check_at(i), checks[i]))
+                    && extra.iter().all(|&t| close(t, r(t)))
+            };
+            let nodes = chebyshev::<F, RATIO_TERMS>(0.0, 1.0);
+            let smooth = interpolate(nodes, nodes.map(|t| r(F::from_f64(t)))).map(F::from_f64);
+            if passes(&smooth, false, [F::ZERO; 2]) {
+                fit.coefficients[k] = smooth;
+                fit.fitted |= 1 << k;
+                continue;
+            }
+            // One jump: between the two check points that differ most,
+            // bisected to the first t of its upper side.
+            let i = (0..RATIO_CHECKS)
+                .max_by(|&a, &b| {
+                    let step = |i: usize| (checks[i + 1] - checks[i]).abs();
+                    step(a).total_cmp(&step(b))
+                })
+                .unwrap_or(0);
+            let (mut lo, mut hi) = (check_at(i), check_at(i + 1));
+            let (r_lo, r_hi) = (checks[i], checks[i + 1]);
+            for _ in 0..64 {
+                let mid = F::from_f64(0.5 * (lo.to_f64() + hi.to_f64()));
+                if mid == lo || mid == hi {
+                    break;
+                }
+                let r_mid = r(mid);
+                if (r_mid - r_lo).abs() <= (r_mid - r_hi).abs() {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            let below = chebyshev::<F, 3>(0.0, lo.to_f64());
+            let above = chebyshev::<F, 3>(hi.to_f64(), 1.0);
+            let [l0, l1, l2] = interpolate(below, below.map(|t| r(F::from_f64(t))));
+            let [h0, h1, h2] = interpolate(above, above.map(|t| r(F::from_f64(t))));
+            let split = [l0, l1, l2, h0, h1, h2, hi.to_f64()].map(F::from_f64);
+            if passes(&split, true, [lo, hi]) {
+                fit.coefficients[k] = split;
+                fit.fitted |= 1 << k;
+                fit.split |= 1 << k;
+            }
+        }
+        if fit.fitted != 0 {
+            fit.fingerprint = table.fingerprint(p);
+        }
+        fit
+    }
+}
+
+/// A bin's fit at `t`: `Σ_{m=0}^{6} a_m t^m` in Estrin's scheme, or, for a
+/// `split` bin with coefficients `(l₀, l₁, l₂, h₀, h₁, h₂, t_s)`,
+/// `l₀ + l₁t + l₂t²` below `t_s` and `h₀ + h₁t + h₂t²` from it on.
+#[inline]
+fn eval_fit<F: Real>(c: &[F; RATIO_TERMS], split: bool, t: F) -> F {
+    let [a0, a1, a2, a3, a4, a5, a6] = *c;
+    if split {
+        let (b0, b1, b2) = if t < a6 { (a0, a1, a2) } else { (a3, a4, a5) };
+        return b0 + t * (b1 + t * b2);
+    }
+    let t2 = t * t;
+    (a0 + a1 * t) + t2 * (a2 + a3 * t) + (t2 * t2) * ((a4 + a5 * t) + t2 * a6)
+}
+
+/// The `M` Chebyshev points of `[a, b]`,
+/// `a + (b − a)(1 − cos((2j + 1)π/2M))/2`, rounded to `F`.
+fn chebyshev<F: Real, const M: usize>(a: f64, b: f64) -> [f64; M] {
+    core::array::from_fn(|j| {
+        let angle = (2 * j + 1) as f64 * core::f64::consts::PI / (2 * M) as f64;
+        F::from_f64(a + (b - a) * 0.5 * (1.0 - libm::cos(angle))).to_f64()
+    })
+}
+
+/// The monomial coefficients `(a₀, …, a_{M−1})` of the polynomial through
+/// `(t_j, r_j)`: Newton's divided differences, then the Newton form
+/// `a₀' + (t − t₀)(a₁' + (t − t₁)(…))` expanded from the inside out.
+fn interpolate<const M: usize>(t: [f64; M], r: [f64; M]) -> [f64; M] {
+    let mut d = r;
+    for level in 1..M {
+        for j in (level..M).rev() {
+            d[j] = (d[j] - d[j - 1]) / (t[j] - t[j - level]);
+        }
+    }
+    let mut a = [0.0; M];
+    a[0] = d[M - 1];
+    for j in (0..M - 1).rev() {
+        // a ← a · (t − t_j) + d_j.
+        for m in (1..M).rev() {
+            a[m] = a[m - 1] - t[j] * a[m];
+        }
+        a[0] = d[j] - t[j] * a[0];
+    }
+    a
+}
+
 /// `(c0, c1, c2, c3)` of the cubic `v(t)` on `[0, 1]` with `v(0) = v0`,
 /// `v(1) = v1`, `v'(0) = m0`, `v'(1) = m1` (Hermite), after making the slopes
 /// monotone: with `Δ = v1 − v0`, `α = m0/Δ`, `β = m1/Δ`,
@@ -303,22 +561,54 @@ fn hermite(v0: f64, v1: f64, m0: f64, m1: f64) -> [f64; 4] {
 /// `pdf` and `invert` are the table's, and
 /// [`sample_ratio`](PhaseFunction::sample_ratio) returns the factor
 /// `p(θ)/q(θ)` that makes every estimate with it unbiased (OMNEE's weight
-/// becomes `(p/q) θ/(s sin θ)`). Borrows the table, so it is `Copy` and as
-/// small as `p` plus a reference.
+/// becomes `(p/q) θ/(s sin θ)`): the table's fitted polynomial in the bins
+/// where it has one for this `p` ([`InverseCdf`], docs/math.md §11.4),
+/// `p` evaluated elsewhere. Borrows the table, so it is `Copy` and as small
+/// as `p` plus a reference and a flag.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TableSampled<'t, F, P> {
-    /// The phase function `p`.
-    pub phase: P,
-    /// Its table `q`, built from it by [`InverseCdf::new`].
-    pub table: &'t InverseCdf<F>,
+    phase: P,
+    table: &'t InverseCdf<F>,
+    /// Whether the table's ratio fits were made for `phase`.
+    fitted: bool,
 }
 
 impl<'t, F: Real, P: PhaseFunction<F>> TableSampled<'t, F, P> {
     /// `phase` sampled through `table` (which should be
     /// `InverseCdf::new(&phase)`; any table gives unbiased estimates, a
     /// table of another function only a worse variance).
+    ///
+    /// The table's fits of `p/q` are used only if `phase` reproduces, bit
+    /// for bit, the values they were made from at every check point (the
+    /// table's fingerprint, `33 N` evaluations of `p` here, once); for any
+    /// other phase function the ratio is `p · (1/q)` with `p` evaluated.
     pub fn new(phase: P, table: &'t InverseCdf<F>) -> Self {
-        Self { phase, table }
+        let fitted =
+            table.ratio.fitted != 0 && table.fingerprint(&phase) == table.ratio.fingerprint;
+        Self {
+            phase,
+            table,
+            fitted,
+        }
+    }
+
+    /// The phase function `p`.
+    #[inline]
+    pub fn phase(&self) -> &P {
+        &self.phase
+    }
+
+    /// Its table `q`.
+    #[inline]
+    pub fn table(&self) -> &'t InverseCdf<F> {
+        self.table
+    }
+
+    /// Whether the ratio `p/q` comes from the table's fits where it has
+    /// them (the table was built from this `p`; see [`new`](Self::new)).
+    #[inline]
+    pub fn uses_fits(&self) -> bool {
+        self.fitted
     }
 }
 
@@ -360,11 +650,13 @@ impl<F: Real, P: PhaseFunction<F>> PhaseFunction<F> for TableSampled<'_, F, P> {
         (d, (F::ONE / inverse_pdf).min(F::MAX))
     }
 
-    /// `(d, q(d), p(d)/q(d))`, the ratio as `p · (1/q)` without a division.
+    /// `(d, q(d), p(d)/q(d))`: the ratio from the table's fit of it, or
+    /// as `p · (1/q)` without a division.
     #[inline]
     fn sample_ratio(&self, u: F) -> (Deflection<F>, F, F) {
-        let (d, inverse_pdf) = self.table.sample_inverse_pdf(u);
-        let ratio = self.phase.eval(d) * inverse_pdf;
+        let (d, inverse_pdf, ratio) = self
+            .table
+            .sample_ratio(u, self.fitted, |d| self.phase.eval(d));
         (d, (F::ONE / inverse_pdf).min(F::MAX), ratio.min(F::MAX))
     }
 
