@@ -87,6 +87,16 @@ impl Omnee<f32, HenyeyGreenstein<f32>> {
         let (omg2, opg2) = (one_minus_g * one_minus_g, one_plus_g * one_plus_g);
         let one_minus_g2 = one_minus_g * one_plus_g;
         let pdf_scale = 0.25 * FRAC_1_PI / (one_minus_g2 * one_minus_g2);
+        // k = 1 + g − 2gu from non-negative terms, (1 − g) + 2g (1 − u) for
+        // g ≥ 0 and (1 + g) + 2|g| u for g < 0, as k0 + k1 v with
+        // v = v0 + v1 u = 1 − u or u (exact: the same roundings as the scalar
+        // sampler's, and no select in the loop).
+        let k0 = 1.0 - g.abs();
+        let (k1, v0, v1) = if g >= 0.0 {
+            (2.0 * g, 1.0, -1.0)
+        } else {
+            (-2.0 * g, 0.0, 1.0)
+        };
         // Every slice cut to n, so that the loop has no bounds checks left
         // to stop the vectoriser.
         let (u0, u1, u2) = (&u.u0[..n], &u.u1[..n], &u.u2[..n]);
@@ -96,14 +106,9 @@ impl Omnee<f32, HenyeyGreenstein<f32>> {
         let mut count = 0;
         for i in 0..n {
             let uu = clamp_unit(u0[i]);
-            // k = 1 + g − 2gu from non-negative terms (as the scalar sampler),
             // 1 − cos θ = a/k², 1 + cos θ = b/k² (so a + b = 2k² and
             // sin θ = √(ab)/k²), θ = 2 atan2(√a, √b).
-            let k = if g >= 0.0 {
-                one_minus_g + 2.0 * g * (1.0 - uu)
-            } else {
-                one_plus_g - 2.0 * g * uu
-            };
+            let k = k0 + k1 * (v0 + v1 * uu);
             let a = omg2 * uu * (one_plus_g + k);
             let b = opg2 * (1.0 - uu) * (one_minus_g + k);
             let (k2, ab) = (k * k, a * b);
