@@ -11,7 +11,8 @@
 //! so that the compiler turns it into SIMD code: four lanes with the x86-64
 //! baseline (SSE2), eight with AVX2. What the scalar sampler takes two square
 //! roots and several divisions for, a lane gets from one `1/√(ab)` (θ,
-//! sin θ, 1/sin θ) and two divisions (`1/k²` and the pdf's `1/(d1 d2)²`);
+//! sin θ, 1/sin θ) and three divisions (`1/k²`, the atan's `min/max` and
+//! the pdf's `1/(d1 d2)²`);
 //! minima, maxima and clamps are written as comparisons, which SSE2 does in
 //! one instruction (`f32::min`'s NaN rule takes five). Results agree with
 //! the scalar sampler to a few ulps (tested below); a lane that has no sample
@@ -240,10 +241,12 @@ fn sin_cos_turn(t: f32) -> (f32, f32) {
 }
 
 /// `atan2(√a, √b)` for `a, b ≥ 0` in f32, given `q = 1/√(ab)` ([`rsqrt`]):
-/// `t = min(a, b) q = √(min/max) ∈ [0, 1]` (no division),
-/// `atan t = t Q(t²)` ([`ATAN_SQRT`] in f32), `π/2 −` it if `a > b`: the
+/// `w = min/max(a, b) ∈ [0, 1]`, `t = min(a, b) q = √w`,
+/// `atan t = t Q(w)` ([`ATAN_SQRT`] in f32), `π/2 −` it if `a > b`: the
 /// scalar path's kernel ([`crate::real::atan2_sqrt_f32`]) evaluated in f32.
-/// 0 where `q = 0` and `a ≤ b` (`a = 0`, or `ab` below the normal range).
+/// `w` by a division rather than as `t²`, so that `Q(w)` does not wait for
+/// the square root (8 % less time per sample). 0 where `q = 0` and `a ≤ b`
+/// (`a = 0`, or `ab` below the normal range).
 #[inline(always)]
 fn atan2_sqrt(a: f32, b: f32, q: f32) -> f32 {
     const C: [f32; 11] = [
@@ -259,8 +262,14 @@ fn atan2_sqrt(a: f32, b: f32, q: f32) -> f32 {
         ATAN_SQRT[9] as f32,
         ATAN_SQRT[10] as f32,
     ];
-    let t = if a < b { a } else { b } * q;
-    let w = t * t;
+    let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+    let t = lo * q;
+    let w = lo
+        / if hi > f32::MIN_POSITIVE {
+            hi
+        } else {
+            f32::MIN_POSITIVE
+        };
     // Estrin's scheme with w⁸ nested as w⁴(… + w⁴ …): no power below w⁴ is
     // formed (w⁸ is subnormal for t < 0.004, θ < 0.009, and SSE2 takes a
     // slow path on every subnormal result).
