@@ -163,7 +163,8 @@ impl Shape {
     /// `e₂((a − 1)L) = E/δ − 1 − (a − 1)L` where `|z| ≥ 1/4` (they lose at
     /// most 3 bits there), the Taylor series `e2_series` below. `ln` and
     /// `exp` are as accurate as a result in `F` needs ([`exp_for`]).
-    #[inline]
+    #[cfg_attr(not(target_arch = "wasm32"), inline(always))]
+    #[cfg_attr(target_arch = "wasm32", inline)]
     fn density<F: Real>(&self, x: f64, y: f64) -> f64 {
         let a = self.a;
         let delta = self.delta90 * x;
@@ -218,7 +219,8 @@ impl<F: Real> PhaseFunction<F> for FournierForand<F> {
     ///
     /// θ = 0 is the singularity; `eval` returns the value at the smallest
     /// positive normal `1 − cos θ` of `F`, capped at `F::MAX`, so it is finite.
-    #[inline]
+    #[cfg_attr(not(target_arch = "wasm32"), inline(always))]
+    #[cfg_attr(target_arch = "wasm32", inline)]
     fn eval(&self, d: Deflection<F>) -> F {
         let x = d.one_minus_cos.to_f64().max(F::MIN_POSITIVE.to_f64());
         let y = d.one_plus_cos.to_f64();

@@ -15,7 +15,7 @@
 use super::invert::invert_cdf;
 use super::{Deflection, PhaseFunction};
 use crate::error::Error;
-use crate::real::Real;
+use crate::real::{Real, exp_for, ln_for};
 
 /// The number of equal-probability bins of an [`InverseCdf`]. 128 bins keep
 /// the table's cubics within 2 KiB in f32 and the table's density within 1e-4 of the
@@ -188,14 +188,24 @@ impl<F: Real> InverseCdf<F> {
         (d, inverse_pdf, ratio)
     }
 
-    /// The deflection at `t ∈ [0, 1]` in bin `k` and `1/q` there.
-    #[inline]
+    /// The deflection at `t ∈ [0, 1]` in bin `k` and `1/q` there. Always
+    /// inlined: as a call it made the sampler spill its live registers.
+    #[inline(always)]
     fn at(&self, k: usize, t: F) -> (Deflection<F>, F) {
         let two_pi_n = F::TAU * F::from_f64(N as f64);
         if k == 0 {
-            // x = x₁ t^e: dx/du = N x₁ e t^{e − 1}.
+            // x = x₁ t^e: dx/du = N x₁ e t^{e − 1} (e ≥ 1), the power as
+            // e^{(e − 1) ln t} by the precision's inline kernels (a call to
+            // powf would make the whole sampler spill its registers).
             let e = self.head_exponent;
-            let r = t.powf(e - F::ONE);
+            let r = if t > F::ZERO {
+                let ln_t = ln_for::<F>(t.to_f64());
+                F::from_f64(exp_for::<F>((e - F::ONE).to_f64() * ln_t))
+            } else if e > F::ONE {
+                F::ZERO
+            } else {
+                F::ONE
+            };
             let x = self.head_x * t * r;
             let inverse_pdf = two_pi_n * self.head_x * e * r;
             return (Deflection::from_one_minus_cos(x), inverse_pdf);
