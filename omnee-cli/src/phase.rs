@@ -34,7 +34,7 @@ pub struct PhaseSpec {
 
 /// Owned storage for a phase function's tables in precision `F`: the core's
 /// [`Tabulated`] borrows its bins from the caller, and [`TableSampled`] its
-/// [`InverseCdf`] (2 KiB in f32).
+/// [`InverseCdf`] (5.6 KiB in f32).
 #[derive(Debug, Default)]
 pub struct TableStorage<F> {
     theta: Vec<F>,
