@@ -142,7 +142,7 @@ impl<F: Real> InverseCdf<F> {
         let mut hash = 0xcbf2_9ce4_8422_2325u64;
         for k in 0..N {
             for i in 0..=RATIO_CHECKS {
-                let (d, _) = self.at(k, F::from_f64(i as f64 / RATIO_CHECKS as f64));
+                let (d, _) = self.at(k, check_point(i));
                 for byte in p.eval(d).to_f64().to_bits().to_le_bytes() {
                     hash = (hash ^ u64::from(byte)).wrapping_mul(0x0100_0000_01b3);
                 }
@@ -415,60 +415,38 @@ impl<F: Real> RatioFit<F> {
     fn new<P: PhaseFunction<F> + ?Sized>(table: &InverseCdf<F>, p: &P) -> Self {
         let mut fit = Self::NONE;
         let tolerance = RATIO_TOLERANCE * F::EPSILON.to_f64();
+        let nodes = chebyshev::<F, RATIO_TERMS>(0.0, 1.0);
         for k in 1..N {
             let r = |t: F| {
                 let (d, inverse_pdf) = table.at(k, t);
                 (p.eval(d) * inverse_pdf).to_f64()
             };
-            let check_at = |i: usize| F::from_f64(i as f64 / RATIO_CHECKS as f64);
-            let checks: [f64; RATIO_CHECKS + 1] = core::array::from_fn(|i| r(check_at(i)));
+            let checks: [f64; RATIO_CHECKS + 1] = core::array::from_fn(|i| r(check_point(i)));
             if checks.iter().any(|r| !r.is_finite()) {
                 continue;
             }
             // Whether `c` reproduces r at the check points and at `extra`.
-            let passes = |c: &[F; RATIO_TERMS], split: bool, extra: [F; 2]| {
+            let passes = |c: &[F; RATIO_TERMS], split: bool, extra: &[F]| {
                 let close = |t: F, want: f64| {
                     let got = eval_fit(c, split, t).to_f64();
                     (got - want).abs() <= tolerance * want.abs()
                 };
-                (0..=RATIO_CHECKS).all(|i| close(check_at(i), checks[i]))
+                (0..=RATIO_CHECKS).all(|i| close(check_point(i), checks[i]))
                     && extra.iter().all(|&t| close(t, r(t)))
             };
-            let nodes = chebyshev::<F, RATIO_TERMS>(0.0, 1.0);
             let smooth = interpolate(nodes, nodes.map(|t| r(F::from_f64(t)))).map(F::from_f64);
-            if passes(&smooth, false, [F::ZERO; 2]) {
+            if passes(&smooth, false, &[]) {
                 fit.coefficients[k] = smooth;
                 fit.fitted |= 1 << k;
                 continue;
             }
-            // One jump: between the two check points that differ most,
-            // bisected to the first t of its upper side.
-            let i = (0..RATIO_CHECKS)
-                .max_by(|&a, &b| {
-                    let step = |i: usize| (checks[i + 1] - checks[i]).abs();
-                    step(a).total_cmp(&step(b))
-                })
-                .unwrap_or(0);
-            let (mut lo, mut hi) = (check_at(i), check_at(i + 1));
-            let (r_lo, r_hi) = (checks[i], checks[i + 1]);
-            for _ in 0..64 {
-                let mid = F::from_f64(0.5 * (lo.to_f64() + hi.to_f64()));
-                if mid == lo || mid == hi {
-                    break;
-                }
-                let r_mid = r(mid);
-                if (r_mid - r_lo).abs() <= (r_mid - r_hi).abs() {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
+            let (lo, hi) = jump(&r, &checks);
             let below = chebyshev::<F, 3>(0.0, lo.to_f64());
             let above = chebyshev::<F, 3>(hi.to_f64(), 1.0);
             let [l0, l1, l2] = interpolate(below, below.map(|t| r(F::from_f64(t))));
             let [h0, h1, h2] = interpolate(above, above.map(|t| r(F::from_f64(t))));
             let split = [l0, l1, l2, h0, h1, h2, hi.to_f64()].map(F::from_f64);
-            if passes(&split, true, [lo, hi]) {
+            if passes(&split, true, &[lo, hi]) {
                 fit.coefficients[k] = split;
                 fit.fitted |= 1 << k;
                 fit.split |= 1 << k;
@@ -478,6 +456,37 @@ impl<F: Real> RatioFit<F> {
             fit.fingerprint = table.fingerprint(p);
         }
         fit
+    }
+}
+
+/// The check point `t = i/RATIO_CHECKS` of a bin, in `F`.
+#[inline]
+fn check_point<F: Real>(i: usize) -> F {
+    F::from_f64(i as f64 / RATIO_CHECKS as f64)
+}
+
+/// Where a bin's ratio `r` jumps, on `F`'s grid of `t`: between the two
+/// check points whose values `checks` differ most, bisected (each step
+/// keeps the side whose end value `r` is closer to) down to adjacent grid
+/// points `(lo, hi)`, the last `t` below the jump and the first above.
+fn jump<F: Real>(r: &impl Fn(F) -> f64, checks: &[f64; RATIO_CHECKS + 1]) -> (F, F) {
+    let step = |i: usize| (checks[i + 1] - checks[i]).abs();
+    let i = (0..RATIO_CHECKS)
+        .max_by(|&a, &b| step(a).total_cmp(&step(b)))
+        .unwrap_or(0);
+    let (mut lo, mut hi) = (check_point::<F>(i), check_point::<F>(i + 1));
+    let (r_lo, r_hi) = (checks[i], checks[i + 1]);
+    loop {
+        let mid = F::from_f64(0.5 * (lo.to_f64() + hi.to_f64()));
+        if mid == lo || mid == hi {
+            return (lo, hi);
+        }
+        let r_mid = r(mid);
+        if (r_mid - r_lo).abs() <= (r_mid - r_hi).abs() {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
     }
 }
 
