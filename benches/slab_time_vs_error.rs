@@ -136,9 +136,9 @@ struct Img {
 }
 
 /// The main layer of an EXR written by the renderer
-/// ([`omnee_cli::image::read_exr`]).
+/// ([`omnee_render::files::read_exr`]).
 fn read_exr(path: &Path) -> Img {
-    let layers = omnee_cli::image::read_exr(path).expect("read EXR");
+    let layers = omnee_render::files::read_exr(path).expect("read EXR");
     let rgb = layers
         .get("")
         .expect("the main layer")

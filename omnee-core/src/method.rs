@@ -81,8 +81,18 @@ impl Method {
 
     /// The method's name, its [`Choice`]'s: `omnee`, `equiangular`,
     /// `distance` or `mis`.
-    pub fn name(self) -> &'static str {
-        Choice::from(self).name()
+    pub const fn name(self) -> &'static str {
+        self.choice().name()
+    }
+
+    /// The [`Choice`] that names this method.
+    pub const fn choice(self) -> Choice {
+        match self {
+            Method::Omnee => Choice::Omnee,
+            Method::Equiangular => Choice::Equiangular,
+            Method::Distance => Choice::Distance,
+            Method::Mis => Choice::Mis,
+        }
     }
 
     /// The method called `name` (exactly, lower case); an
@@ -146,19 +156,14 @@ impl Named for Choice {
     ];
 
     fn name(self) -> &'static str {
-        match self {
-            Choice::Omnee => "omnee",
-            Choice::Equiangular => "equiangular",
-            Choice::Distance => "distance",
-            Choice::Mis => "mis",
-            Choice::LobeMis => "lobe-mis",
-            Choice::Auto => "auto",
-        }
+        Choice::name(self)
     }
 
     fn help(self) -> &'static str {
         match self {
-            Choice::Omnee => "the deflection from the phase function, then x1 on the circumcircle arc",
+            Choice::Omnee => {
+                "the deflection from the phase function, then x1 on the circumcircle arc"
+            }
             Choice::Equiangular => {
                 "a direction from the receiver, then the distance equiangular towards the light"
             }
@@ -182,12 +187,7 @@ crate::display_by_name!(Choice);
 
 impl From<Method> for Choice {
     fn from(method: Method) -> Self {
-        match method {
-            Method::Omnee => Choice::Omnee,
-            Method::Equiangular => Choice::Equiangular,
-            Method::Distance => Choice::Distance,
-            Method::Mis => Choice::Mis,
-        }
+        method.choice()
     }
 }
 
@@ -201,6 +201,18 @@ impl From<LobeMethod> for Choice {
 }
 
 impl Choice {
+    /// The choice's name (its [`Named::name`], usable in constants).
+    pub const fn name(self) -> &'static str {
+        match self {
+            Choice::Omnee => "omnee",
+            Choice::Equiangular => "equiangular",
+            Choice::Distance => "distance",
+            Choice::Mis => "mis",
+            Choice::LobeMis => "lobe-mis",
+            Choice::Auto => "auto",
+        }
+    }
+
     /// The [`Method`] of this name (`None` for `lobe-mis` and `auto`).
     pub fn method(self) -> Option<Method> {
         match self {
@@ -585,7 +597,10 @@ mod tests {
         let (method, reason) = pick(0.0, 0.01);
         assert_eq!(method, Method::Mis);
         let text = std::format!("{}", reason.unwrap());
-        assert!(text.contains("optically thin (tau = 0.010 < 0.2)"), "{text}");
+        assert!(
+            text.contains("optically thin (tau = 0.010 < 0.2)"),
+            "{text}"
+        );
         assert!(
             std::format!("{}", pick(0.9, 0.01).1.unwrap()).contains("mean cosine 0.900 >= 0.3")
         );

@@ -9,7 +9,6 @@
 //! files, the bindings and the browser demo read the same sets.
 
 use core::fmt;
-use core::marker::PhantomData;
 
 /// A closed set of names: every value, its name and a line of help.
 ///
@@ -32,18 +31,19 @@ pub trait Named: Copy + PartialEq + 'static {
 
     /// The names of [`Named::ALL`], comma-separated when displayed: the
     /// `allowed` part of an error message (no allocation).
-    fn allowed() -> Allowed<Self> {
-        Allowed(PhantomData)
+    fn allowed() -> List<'static, Self> {
+        List(Self::ALL)
     }
 }
 
-/// The names of a [`Named`] set, displayed as `a, b, c`.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Allowed<T>(PhantomData<T>);
+/// Values of a [`Named`] set, displayed by name as `a, b, c`: the allowed
+/// part of an error message, a subset of the set included.
+#[derive(Clone, Copy, Debug)]
+pub struct List<'a, T>(pub &'a [T]);
 
-impl<T: Named> fmt::Display for Allowed<T> {
+impl<T: Named> fmt::Display for List<'_, T> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        for (i, v) in T::ALL.iter().enumerate() {
+        for (i, v) in self.0.iter().enumerate() {
             if i > 0 {
                 f.write_str(", ")?;
             }
@@ -98,6 +98,7 @@ mod tests {
             assert_eq!(Two::from_name(bad), None, "{bad:?}");
         }
         assert_eq!(std::format!("{}", Two::allowed()), "one, other-one");
+        assert_eq!(std::format!("{}", List(&[Two::OtherOne])), "other-one");
         assert_eq!(std::format!("{}", Two::OtherOne), "other-one");
     }
 }

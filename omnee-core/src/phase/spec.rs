@@ -2,7 +2,9 @@
 //!
 //! The syntax is documented on [`Spec`] (this module is private).
 
-use super::{AnyPhase, Draine, FournierForand, HenyeyGreenstein, Isotropic, Mie, Mixture, Phase, Rayleigh};
+use super::{
+    AnyPhase, Draine, FournierForand, HenyeyGreenstein, Isotropic, Mie, Mixture, Phase, Rayleigh,
+};
 #[allow(unused_imports)] // named by the documentation of `Spec`
 use super::{Tabulated, TwoTermHg};
 use crate::error::Error;
@@ -108,9 +110,7 @@ impl Named for PhaseKind {
                 "approximate Mie (Jendersie & d'Eon 2023), droplet diameter in (0, 50] micrometres"
             }
             PhaseKind::Rayleigh => "Rayleigh, p = 3/(16 pi) (1 + cos^2)",
-            PhaseKind::Table => {
-                "measured: lines 'angle_deg,value', angles increasing in [0, 180]"
-            }
+            PhaseKind::Table => "measured: lines 'angle_deg,value', angles increasing in [0, 180]",
         }
     }
 }
@@ -182,10 +182,7 @@ impl<'s> ParsedSpec<'s> {
 
     /// Parses the syntax of [`Spec`], reading each (trimmed) number with
     /// `number` (`None`: not a number).
-    pub fn parse_with(
-        spec: &'s str,
-        number: impl Fn(&str) -> Option<f64>,
-    ) -> Result<Self, Error> {
+    pub fn parse_with(spec: &'s str, number: impl Fn(&str) -> Option<f64>) -> Result<Self, Error> {
         let syntax = |field, reason| Error::Syntax { field, reason };
         let spec = spec.trim();
         let (name, args) = match split_once(spec, b':') {
