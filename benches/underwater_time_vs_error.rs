@@ -1,4 +1,4 @@
-//! The underwater scene (issue 11): the equal-time comparison of the
+//! The underwater scene: the equal-time comparison of the
 //! once-more techniques for `caustics-once-more`, like the talk's results
 //! slide, and the default render's time and image.
 //!

@@ -1,6 +1,6 @@
 //! One `[section]` of a scene file, read key by key: each reader checks the
 //! value's type and range and names `section.key` in its error; keys never
-//! read are reported as unknown by [`Section::finish`].
+//! read are reported as unknown by `Section::finish`.
 
 use crate::error::{RenderError, Result};
 use crate::range::Range;

@@ -1,4 +1,4 @@
-//! The underwater scene against gathering and quadrature (issue 11):
+//! The underwater scene against gathering and quadrature:
 //!
 //! - with a flat surface, the light-traced `caustics` layer equals the
 //!   analytic floor radiance seen through each pixel, for two sun elevations

@@ -3,11 +3,11 @@
 //! seen by a pinhole camera and rendered by gathering (camera rays), each
 //! transport term (`direct`, `once-more`, `view`) in its own layer.
 //!
-//! - [`file`]: the scene file (TOML), one reader per section; every error
+//! - [`file`](mod@file): the scene file (TOML), one reader per section; every error
 //!   names the field (`section.key`), its value and the allowed range. The
 //!   built-in [`DEFAULT_SCENE`] documents every field.
 //! - [`world`]: the scene in the renderer's f32 and its transport terms, one
-//!   file each, and [`world::SlabRender`], what the render loop runs.
+//!   file each, and [`render::SlabRender`], what the render loop runs.
 //! - [`probe`]: the irradiance at a point, per term, as mean and standard
 //!   error; [`stats`]: the work counters.
 

@@ -11,7 +11,7 @@ use crate::phase::TableStorage;
 use crate::render::budget::Budget;
 use crate::render::{Integrator, Options, Progress, Rendered, Sums};
 use crate::rng::Rng;
-use crate::scenes::{RenderReport, RenderSettings};
+use crate::scenes::settings::{RenderReport, RenderSettings};
 use crate::technique::Resolved;
 use glam::Vec3;
 use omnee_core::method::Choice;

@@ -14,7 +14,7 @@
 //! [`optics`] (refraction and Fresnel), [`sun`], [`water`] (chromatic
 //! coefficients and distance sampling), [`transport`] (the light
 //! paths and the four terms, and the render loop's view of them) and
-//! [`file`] (the scene file); the floor is both scenes'
+//! [`file`](mod@file) (the scene file); the floor is both scenes'
 //! [`crate::scenes::floor`], the camera, the pixel measurement and the
 //! importance derived from it the library's one pinhole, [`crate::camera`].
 
@@ -35,7 +35,7 @@ use crate::error::Result;
 use crate::phase::TableStorage;
 use crate::render::budget::Budget;
 use crate::render::{Options, Progress, Rendered};
-use crate::scenes::{RenderReport, RenderSettings};
+use crate::scenes::settings::{RenderReport, RenderSettings};
 use crate::technique::Resolved;
 use omnee_core::method::{AutoReason, Choice, auto};
 use omnee_core::phase::{Phase, PhaseFunction};
@@ -59,7 +59,7 @@ pub fn choose_technique(scene: &UnderwaterScene, g: f64) -> (CausticsMethod, Aut
 
 /// What the scene does not need, as sentences for the render's report:
 /// the scattering terms without scattering, the surface marching for a
-/// flat surface. [`World::new`] skips them.
+/// flat surface. [`UnderwaterWorld::new`] skips them.
 pub fn skip_notes(scene: &UnderwaterScene) -> Vec<String> {
     let mut notes = Vec::new();
     let r = &scene.render.terms;

@@ -11,7 +11,7 @@
 //! - [`shafts_once_more`]: such points connected once more, with the phase
 //!   function's lobe at them.
 //!
-//! This file holds the light path itself ([`World::trace`]) and what the
+//! This file holds the light path itself ([`UnderwaterWorld::trace`]) and what the
 //! terms share. Each light path is one sample of the sun's flux through a
 //! region of the surface; every term splats its contribution to the pixel
 //! its last vertex projects to, with the camera's importance
