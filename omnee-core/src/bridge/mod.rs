@@ -436,7 +436,8 @@ fn length_weight<F: Real>(k: usize, s: F, length: F) -> F {
 #[inline]
 fn stick_sample<F: Real>(left: F, u: F, n: usize) -> (F, F) {
     let x = (-u).ln_1p() / F::from_f64(n as f64);
-    (-left * x.exp_m1(), left * x.exp())
+    let m1 = x.exp_m1(); // e^x − 1 ∈ (−1, 0]; e^x = 1 + m1 is exact enough
+    (-left * m1, left * (F::ONE + m1))
 }
 
 /// The inverse of [`stick_sample`]: `u = 1 − (1 − t/(t + rest))^n` from the
