@@ -10,6 +10,7 @@
 //! HG's sign convention, constants off, ...) and records which of these
 //! tests fail; `tests/mutants/README.md` has the table.
 
+mod bridge;
 mod chi2;
 mod harness;
 mod lobe;
