@@ -106,6 +106,7 @@ pub fn estimate<'py>(
         },
         x0_phase: None,
         x0_incoming: None,
+        vertices: Default::default(),
     };
     let samples = unsigned("samples", samples, "[1, 2^40]")?;
     let go = AtomicBool::new(false);
