@@ -18,8 +18,8 @@ pub mod stats;
 pub mod world;
 
 pub use file::{
-    CameraSection, FloorSection, LightSection, Medium, Occluder, Pattern, SLAB_TECHNIQUES,
-    SLAB_TERMS, SlabSettings,
+    CameraSection, FloorSection, LightSection, Medium, Occluder, Pattern, SLAB_DEFAULT_TERMS,
+    SLAB_TECHNIQUES, SLAB_TERMS, SlabSettings,
 };
 pub use render::{SlabRender, render};
 pub use stats::SlabStats;
@@ -114,7 +114,7 @@ mod tests {
         assert_eq!(s.medium.sigma_s, 0.5);
         assert_eq!(s.medium.sigma_a, 0.05);
         assert!(s.occluder.is_some());
-        assert_eq!(s.render.terms, SLAB_TERMS);
+        assert_eq!(s.render.terms, SLAB_DEFAULT_TERMS);
     }
 
     #[test]
@@ -133,7 +133,9 @@ mod tests {
         let bad = edited("terms = [\"direct\",", "terms = [\"glow\",");
         let e = SlabScene::parse(&bad).unwrap_err().to_string();
         assert!(
-            e.contains("render.terms = \"glow\" is not a term; allowed: direct, once-more, view"),
+            e.contains(
+                "render.terms = \"glow\" is not a term; allowed: direct, once-more, view, multiple"
+            ),
             "{e}"
         );
         let bad = edited("pattern = \"holes\"", "pattern = \"stars\"");

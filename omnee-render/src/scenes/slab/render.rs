@@ -3,7 +3,7 @@
 //! random stream `(seed, pixel index in the full image, pass)`.
 
 use super::world::camera_ray::Transport;
-use super::world::{OnceMore, SlabWorld};
+use super::world::{Multiple, OnceMore, SlabWorld};
 use super::{SlabScene, SlabStats};
 use crate::camera::Pinhole;
 use crate::error::{RenderError, Result};
@@ -96,6 +96,8 @@ impl SlabScene {
             terms: r.terms.clone(),
             technique: r.technique,
             theta_max: r.theta_max,
+            multiple: r.multiple,
+            vertices: r.vertices,
             russian_roulette: r.russian_roulette,
             phase_sampling: crate::phase::PhaseSampling::Table,
             exposure: r.exposure,
@@ -127,9 +129,11 @@ pub fn render(
     terms.sort();
     terms.dedup();
     let mut skipped = Vec::new();
-    let scattering = |t: &Term| matches!(t, Term::OnceMore | Term::View);
+    let scattering = |t: &Term| matches!(t, Term::OnceMore | Term::View | Term::Multiple);
     if !world.scatters() && terms.iter().any(scattering) {
-        skipped.push("sigma_s = 0: once-more and view terms skipped (no scattering)".to_string());
+        skipped.push(
+            "sigma_s = 0: once-more, view and multiple terms skipped (no scattering)".to_string(),
+        );
         terms.retain(|t| !scattering(t));
     }
     if scene.occluder.is_none() {
@@ -153,6 +157,11 @@ pub fn render(
             once_more: OnceMore {
                 method,
                 theta_max: settings.theta_max as f32,
+            },
+            multiple: Multiple {
+                method: settings.multiple,
+                vertices: settings.vertices,
+                mean_cosine: g as f32,
             },
             roulette: (settings.russian_roulette * scene.reference_radiance()) as f32,
         },
