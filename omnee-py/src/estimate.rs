@@ -48,6 +48,17 @@ fn unsigned(field: &str, n: i128, allowed: &str) -> PyResult<u64> {
     })
 }
 
+/// A Python integer as a count (`threads`), its range message where it is
+/// negative or too large.
+fn count(field: &str, n: i128, allowed: &str) -> PyResult<usize> {
+    usize::try_from(n)
+        .ok()
+        .filter(|&n| n <= 1024)
+        .ok_or_else(|| {
+            PyValueError::new_err(format!("{field} = {n} is out of range; allowed: {allowed}"))
+        })
+}
+
 /// The once-more scattered transfer from a unit point light at `x0` to a
 /// point receiver at `x2` through an infinite homogeneous medium,
 ///
@@ -56,14 +67,17 @@ fn unsigned(field: &str, n: i128, allowed: &str) -> PyResult<u64> {
 /// estimated with `samples` draws of `technique` (`omnee`, `equiangular`,
 /// `distance`, `mis` or `auto`) from the random streams of `seed`, exactly
 /// as `omnee estimate --json` does: the same arguments give the same mean and
-/// standard error. `reference=True` adds the f64 quadrature value of `I`
+/// standard error. `dtype` is the precision of the draws: float64 (the
+/// default) or float32 (the renderer's, `omnee estimate`'s default). `reference=True` adds the f64 quadrature value of `I`
 /// (docs/math.md §5). Returns `Estimate(mean, stderr, reference, technique,
 /// auto_reason, samples, accepted, mean_cosine, tau, seconds)`.
 #[pyfunction]
 #[pyo3(signature = (
     *, x0, x2, sigma_s, sigma_t, phase = None, technique = "auto", samples = 100_000, seed = 1,
     theta_max = PI, receiver_normal = None, dtype = None, reference = true, threads = 0
-))]
+), text_signature = "(*, x0, x2, sigma_s, sigma_t, phase=None, technique='auto', samples=100000, \
+    seed=1, theta_max=3.141592653589793, receiver_normal=None, dtype=None, reference=True, \
+    threads=0)")]
 #[allow(clippy::too_many_arguments)]
 pub fn estimate<'py>(
     py: Python<'py>,
@@ -79,7 +93,7 @@ pub fn estimate<'py>(
     receiver_normal: Option<&Bound<'py, PyAny>>,
     dtype: Option<&Bound<'py, PyAny>>,
     reference: bool,
-    threads: usize,
+    threads: i128,
 ) -> PyResult<Bound<'py, PyAny>> {
     let phase = match phase {
         Some(p) => crate::technique::phase_arg(p)?,
@@ -100,13 +114,13 @@ pub fn estimate<'py>(
             seed: unsigned("seed", seed, "[0, 2^64)")?,
             precision: match dtype {
                 Some(d) => precision(d)?,
-                None => Precision::F32,
+                None => Precision::F64,
             },
         },
         lobe: LobeArgs::default(),
         samples: unsigned("samples", samples, "[1, 2^40]")?,
         reference,
-        threads,
+        threads: count("threads", threads, "[0, 1024], 0: one per core")?,
         json: false,
     };
     let e = py

@@ -18,8 +18,11 @@
 //! foreign boundary is PyO3's and rust-numpy's.
 
 mod array;
+mod chunks;
+mod config;
 mod error;
 mod estimate;
+mod kernel;
 mod phase;
 mod technique;
 
