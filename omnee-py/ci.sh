@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # omnee-py in CI: a fresh venv, the pinned test dependencies, the package
-# installed the way a user installs it (`pip install ./omnee-py`), the type
-# stub checked by `mypy --strict`, the wheel's size, then the pytest suite,
+# installed the way a user installs it (`pip install ./omnee-py`), the
+# wheel's size, the type stub checked by `mypy --strict` and against the
+# module by `mypy.stubtest`, then the pytest suite,
 # which also compares `omnee.estimate` with the `omnee` binary.
 # Run from the repository root: `bash omnee-py/ci.sh`.
 set -euo pipefail
@@ -32,8 +33,11 @@ PY
 "$venv/bin/python" -m pip install --quiet "$wheels"/omnee-*.whl
 # The stub and the package under `mypy --strict`, with a script that uses
 # the API as a user would (tests/typing_check.py).
-(cd omnee-py && MYPYPATH=python "$venv/bin/python" -m mypy --strict --no-incremental \
-  -p omnee tests/typing_check.py)
+(cd omnee-py && "$venv/bin/python" -m mypy --strict --no-incremental \
+  python/omnee tests/typing_check.py)
 # Run from outside the source tree so that `import omnee` is the installed package.
 cd omnee-py/tests
+# The installed stub against the installed module: every name, signature
+# and default as the extension defines them.
+"$venv/bin/python" -m mypy.stubtest omnee._omnee
 CI="${CI:-true}" "$venv/bin/python" -m pytest -q -p no:cacheprovider .

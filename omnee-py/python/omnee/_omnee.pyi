@@ -8,23 +8,27 @@ released: do not write to it from another thread during the call. A 0-d
 result is returned as a numpy scalar.
 """
 
-from typing import Any, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Optional, Sequence, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
+from typing_extensions import disjoint_base
 
 from . import Estimate, Inversion, Samples
 
-ArrayLike = npt.ArrayLike
-FloatArray = npt.NDArray[np.floating[Any]]
-BoolArray = npt.NDArray[np.bool_]
-Point = Union[Sequence[float], FloatArray]
+__all__ = ["Phase", "Technique", "Omnee", "Equiangular", "Distance", "Mis", "estimate", "__version__"]
+
+_ArrayLike = npt.ArrayLike
+_FloatArray = npt.NDArray[np.floating[Any]]
+_BoolArray = npt.NDArray[np.bool_]
+_Point = Union[Sequence[float], _FloatArray]
 """A point ``(3,)``; for the techniques' ``x0``, ``x2``, ``normal`` also
 ``(N, 3)``, one point per row."""
-PhaseLike = Union["Phase", str]
+_PhaseLike = Union["Phase", str]
 
 __version__: str
 
+@final
 class Phase:
     """A phase function p(θ) of the deflection θ ∈ [0, π] between the incoming
     and the outgoing propagation direction (θ = 0: straight on), normalised
@@ -44,29 +48,31 @@ class Phase:
     ValueError for θ outside [0, π] or u outside [0, 1], NaN included.
     """
 
-    def __init__(self, spec: str) -> None: ...
+    def __new__(cls, spec: str) -> Phase: ...
+    def __getnewargs__(self) -> Tuple[str]: ...
     @property
     def spec(self) -> str:
         """The spec string."""
-    def eval(self, theta: ArrayLike) -> Any:
+    def eval(self, theta: _ArrayLike) -> Any:
         """p(θ) per steradian, elementwise, θ ∈ [0, π]."""
-    def sample(self, u: ArrayLike) -> Any:
+    def sample(self, u: _ArrayLike) -> Any:
         """θ = P⁻¹(u), the deflection drawn from u ∈ [0, 1]; its
         solid-angle density is ``pdf(θ)``."""
-    def pdf(self, theta: ArrayLike) -> Any:
+    def pdf(self, theta: _ArrayLike) -> Any:
         """The solid-angle density of ``sample`` at θ; equals ``eval(θ)``."""
-    def cdf(self, theta: ArrayLike) -> Any:
+    def cdf(self, theta: _ArrayLike) -> Any:
         """``P(Θ ≤ θ) = 2π ∫₀^θ p(θ') sin θ' dθ'``."""
-    def invert(self, theta: ArrayLike) -> Any:
+    def invert(self, theta: _ArrayLike) -> Any:
         """The u with ``sample(u) = θ`` (``cdf(θ)`` for inverse-CDF samplers).
         Raises ValueError for the mixtures (tthg, mie), which pick a lobe with u."""
     def mean_cosine(self) -> float:
         """``g = ⟨cos θ⟩ = 2π ∫₀^π p(θ) cos θ sin θ dθ``."""
     def backscatter_fraction(self) -> float:
         """``B = P(Θ > π/2)``."""
-    def __eq__(self, other: object) -> bool: ...
+    def __eq__(self, other: object, /) -> bool: ...
     def __hash__(self) -> int: ...
 
+@disjoint_base
 class Technique:
     """A technique placing the scattering vertex ``x1`` of the once-more
     scattered connection ``x0 → x1 → x2``, restricted to deflections
@@ -84,10 +90,10 @@ class Technique:
     """
 
     @property
-    def x0(self) -> Union[Tuple[float, float, float], FloatArray]:
+    def x0(self) -> Union[Tuple[float, float, float], _FloatArray]:
         """The light-side end point(s)."""
     @property
-    def x2(self) -> Union[Tuple[float, float, float], FloatArray]:
+    def x2(self) -> Union[Tuple[float, float, float], _FloatArray]:
         """The receiver-side end point(s)."""
     @property
     def theta_max(self) -> float:
@@ -103,36 +109,39 @@ class Technique:
         """The number of connections given per row, or None for one."""
     def sample(
         self,
-        u: ArrayLike,
-        out: Optional[Tuple[FloatArray, FloatArray, FloatArray, BoolArray]] = None,
+        u: _ArrayLike,
+        out: Optional[Tuple[_FloatArray, _FloatArray, _FloatArray, _BoolArray]] = None,
     ) -> Samples:
         """``x1`` from uniform numbers ``u`` in [0, 1] of shape ``(..., 3)``
         (``(..., 6)`` for Mis): ``Samples(x1, pdf, weight, valid)``, with
         ``weight = k(x1)/pdf(x1)`` in closed form; written into the four
         arrays of ``out`` (C-contiguous, the result's dtype and shapes) if
         given."""
-    def pdf(self, x1: ArrayLike, out: Optional[FloatArray] = None) -> Any:
+    def pdf(self, x1: _ArrayLike, out: Optional[_FloatArray] = None) -> Any:
         """The volume density (m⁻³) of ``sample`` at points of shape
         ``(..., 3)``; 0 where it never samples. For Mis the combined density
         the vertices come with."""
-    def __eq__(self, other: object) -> bool: ...
+    def __eq__(self, other: object, /) -> bool: ...
     def __hash__(self) -> int: ...
+    def __getnewargs_ex__(self) -> Tuple[Tuple[Any, ...], Dict[str, Any]]: ...
 
+@final
 class Omnee(Technique):
     """OMNEE: θ = P⁻¹(u0) from the phase function, ``β = u1 θ``,
     ``φ = 2π u2`` on the circumcircle arc through x0 and x2;
     ``pdf(x1) = p(θ) (sin θ/θ) s / (d1² d2²)``, ``weight = θ/(s sin θ)``
     with ``s = |x2 − x0|``."""
 
-    def __init__(
-        self, x0: Point, x2: Point, phase: PhaseLike, theta_max: float = 3.141592653589793
-    ) -> None: ...
+    def __new__(
+        cls, x0: _Point, x2: _Point, phase: _PhaseLike, theta_max: float = 3.141592653589793
+    ) -> Omnee: ...
     def invert(
-        self, x1: ArrayLike, out: Optional[Tuple[FloatArray, BoolArray]] = None
+        self, x1: _ArrayLike, out: Optional[Tuple[_FloatArray, _BoolArray]] = None
     ) -> Inversion:
         """The uniform numbers ``sample`` maps to ``x1`` (shape ``(..., 3)``):
         ``Inversion(u, valid)``."""
 
+@final
 class Equiangular(Technique):
     """Equiangular sampling (Kulla & Fajardo 2012): a direction ω from x2
     (uniform on the sphere, or cosine-weighted about ``normal``) from
@@ -140,21 +149,22 @@ class Equiangular(Technique):
     medium segment (all of space, or the ``slab`` (z_min, z_max)):
     ``pdf(x1) = pdf_ω(ω) c / (d1² d2²)``, ``weight = p(θ)/(pdf_ω(ω) c)``."""
 
-    def __init__(
-        self,
-        x0: Point,
-        x2: Point,
-        phase: PhaseLike,
+    def __new__(
+        cls,
+        x0: _Point,
+        x2: _Point,
+        phase: _PhaseLike,
         theta_max: float = 3.141592653589793,
-        normal: Optional[Point] = None,
+        normal: Optional[_Point] = None,
         slab: Optional[Tuple[float, float]] = None,
-    ) -> None: ...
+    ) -> Equiangular: ...
     def invert(
-        self, x1: ArrayLike, out: Optional[Tuple[FloatArray, BoolArray]] = None
+        self, x1: _ArrayLike, out: Optional[Tuple[_FloatArray, _BoolArray]] = None
     ) -> Inversion:
         """The uniform numbers ``sample`` maps to ``x1`` (shape ``(..., 3)``):
         ``Inversion(u, valid)``."""
 
+@final
 class Distance(Technique):
     """Distance sampling: a direction ω as for Equiangular, then the
     exponential free-flight distance with coefficient ``sigma_t`` on the
@@ -162,22 +172,23 @@ class Distance(Technique):
     ``pdf(x1) = pdf_ω(ω) pdf(t) / t²``; ``sigma_t`` ∈ (0, ∞) without a slab,
     [0, ∞) with one."""
 
-    def __init__(
-        self,
-        x0: Point,
-        x2: Point,
-        phase: PhaseLike,
+    def __new__(
+        cls,
+        x0: _Point,
+        x2: _Point,
+        phase: _PhaseLike,
         sigma_t: float,
         theta_max: float = 3.141592653589793,
-        normal: Optional[Point] = None,
+        normal: Optional[_Point] = None,
         slab: Optional[Tuple[float, float]] = None,
-    ) -> None: ...
+    ) -> Distance: ...
     def invert(
-        self, x1: ArrayLike, out: Optional[Tuple[FloatArray, BoolArray]] = None
+        self, x1: _ArrayLike, out: Optional[Tuple[_FloatArray, _BoolArray]] = None
     ) -> Inversion:
         """The uniform numbers ``sample`` maps to ``x1`` (shape ``(..., 3)``):
         ``Inversion(u, valid)``."""
 
+@final
 class Mis(Technique):
     """MIS as the CLI's ``mis``: OMNEE's vertex from ``u[0:3]`` always and,
     when ``u3 < c = 0.05``, an equiangular companion from ``(u3/c, u4, u5)``
@@ -186,28 +197,28 @@ class Mis(Technique):
     it. ``sample`` returns two vertices per draw (shape ``(..., 2, 3)``).
     No ``invert``: OMNEE and the companion can draw the same point."""
 
-    def __init__(
-        self,
-        x0: Point,
-        x2: Point,
-        phase: PhaseLike,
+    def __new__(
+        cls,
+        x0: _Point,
+        x2: _Point,
+        phase: _PhaseLike,
         theta_max: float = 3.141592653589793,
-        normal: Optional[Point] = None,
+        normal: Optional[_Point] = None,
         slab: Optional[Tuple[float, float]] = None,
-    ) -> None: ...
+    ) -> Mis: ...
 
 def estimate(
     *,
-    x0: Point,
-    x2: Point,
+    x0: _Point,
+    x2: _Point,
     sigma_s: float,
     sigma_t: float,
-    phase: Optional[PhaseLike] = None,
+    phase: Optional[_PhaseLike] = None,
     technique: str = "auto",
     samples: int = 100000,
     seed: int = 1,
     theta_max: float = 3.141592653589793,
-    receiver_normal: Optional[Point] = None,
+    receiver_normal: Optional[_Point] = None,
     dtype: Optional[npt.DTypeLike] = None,
     reference: bool = True,
     threads: int = 0,
