@@ -198,7 +198,9 @@ impl Config {
 
     /// Checks every parameter in f64 (each row's, in parallel with the GIL
     /// released): the core's error, naming the field (and the row), or
-    /// distance sampling that could never end (σt = 0 without a slab).
+    /// distance sampling that could never end (σt = 0 without a slab). Rows
+    /// are checked again at every call, in its precision (they are read in
+    /// place, and a row valid in f64 may not be in f32).
     pub fn check(&self, py: Python<'_>, rows: Option<usize>) -> PyResult<()> {
         if self.method == Method::Distance && self.sigma_t == 0.0 && self.slab.is_none() {
             return Err(PyValueError::new_err(
@@ -207,11 +209,23 @@ impl Config {
             ));
         }
         self.with::<f64, _>(py, rows, 1, |cx| {
-            let all = 0..rows.unwrap_or(1);
+            let Geometry::Rows { x0, x2, normal, .. } = cx.geometry else {
+                return Ok(());
+            };
+            let all = 0..rows.unwrap_or(0);
             py.detach(|| {
                 run(all, |_, rows| {
-                    rows.map(|row| cx.geometry.at(row))
-                        .try_for_each(|r| r.map(drop))
+                    // A scan for what the core refuses (non-finite or
+                    // coincident points, a zero normal), the core's own
+                    // check (and message) for a row the scan flags.
+                    let flagged = |&row: &usize| {
+                        let (a, b) = (x0.get(row), x2.get(row));
+                        let n = normal.map_or([1.0; 3], |n| n.get(row));
+                        let finite = a.iter().chain(&b).chain(&n).all(|v| v.is_finite());
+                        !finite || a == b || n == [0.0; 3]
+                    };
+                    rows.filter(flagged)
+                        .try_for_each(|row| cx.geometry.at(row).map(drop))
                 })
             })
         })?

@@ -6,7 +6,7 @@
 //! technique of a connection is made once per chunk (one connection) or
 //! once per row.
 
-use crate::array::{Bad, first_non_finite, number};
+use crate::array::{Bad, first_non_finite, first_outside, number};
 use crate::chunks::{Items, run};
 use omnee_core::method::{Method, Setup};
 use omnee_core::mis::OmneeMis;
@@ -47,12 +47,18 @@ pub enum Coords<'a> {
 
 impl Coords<'_> {
     /// The point of `row`, in f64 (exact for both dtypes).
-    #[inline]
+    #[inline(always)]
     pub fn get(&self, row: usize) -> [f64; 3] {
         match *self {
             Coords::One(p) => p,
-            Coords::F32(a) => [a[3 * row], a[3 * row + 1], a[3 * row + 2]].map(f64::from),
-            Coords::F64(a) => [a[3 * row], a[3 * row + 1], a[3 * row + 2]],
+            Coords::F32(a) => {
+                let p = &a[3 * row..3 * row + 3];
+                [p[0], p[1], p[2]].map(f64::from)
+            }
+            Coords::F64(a) => {
+                let p = &a[3 * row..3 * row + 3];
+                [p[0], p[1], p[2]]
+            }
         }
     }
 }
@@ -80,7 +86,7 @@ pub enum Geometry<'a, F: Real> {
 impl<F: Real> Geometry<'_, F> {
     /// The connection of `row` and its directions (`None`: the setup's), as
     /// the core builds them in precision `F`; its refusal names the row.
-    #[inline]
+    #[inline(always)]
     pub fn at(&self, row: usize) -> Result<(Connection<F>, Option<Directions<F>>), Bad> {
         match *self {
             Geometry::One(c) => Ok((c, None)),
@@ -190,45 +196,6 @@ pub struct Context<'a, F: Real> {
     pub per_row: usize,
 }
 
-/// The technique of the row a loop is in, made again only when the row
-/// changes.
-struct Current<'c, 'a, F: Real, K, M> {
-    cx: &'c Context<'a, F>,
-    make: &'c M,
-    current: Option<(usize, K)>,
-}
-
-impl<'a, F: Real, K: Kernel<F>, M> Current<'_, 'a, F, K, M>
-where
-    M: Fn(Connection<F>, Setup<F, PhaseRef<'a, F>>) -> Result<K, omnee_core::Error>,
-{
-    /// The technique of item `i`.
-    #[inline]
-    fn at(&mut self, i: usize) -> Result<&K, Bad> {
-        let row = match self.cx.geometry {
-            Geometry::One(_) => 0,
-            Geometry::Rows { .. } => i / self.cx.per_row,
-        };
-        if self.current.as_ref().is_none_or(|(r, _)| *r != row) {
-            let (connection, directions) = self.cx.geometry.at(row)?;
-            let setup = match directions {
-                Some(d) => self.cx.setup.with_directions(d),
-                None => self.cx.setup,
-            };
-            let kernel = (self.make)(connection, setup).map_err(|error| Bad::Row {
-                row,
-                error,
-                precision: crate::array::dtype_name::<F>(),
-            })?;
-            self.current = Some((row, kernel));
-        }
-        match &self.current {
-            Some((_, k)) => Ok(k),
-            None => unreachable!("set above"),
-        }
-    }
-}
-
 /// Calls `$body` with `$make`, the maker of `$cx.method`'s technique for a
 /// connection and its setup (each method's loop compiled on its own).
 macro_rules! with_kernel {
@@ -265,14 +232,65 @@ macro_rules! with_kernel {
     };
 }
 
+/// The maker of a method's technique for a connection and its setup.
+trait Make<'a, F: Real, K>:
+    Fn(Connection<F>, Setup<F, PhaseRef<'a, F>>) -> Result<K, omnee_core::Error> + Sync
+{
+}
+
+impl<'a, F: Real, K, M> Make<'a, F, K> for M where
+    M: Fn(Connection<F>, Setup<F, PhaseRef<'a, F>>) -> Result<K, omnee_core::Error> + Sync
+{
+}
+
 impl<'a, F: Real> Context<'a, F> {
-    /// A row cursor over `make`'s techniques.
-    fn current<'c, K, M>(&'c self, make: &'c M) -> Current<'c, 'a, F, K, M> {
-        Current {
-            cx: self,
-            make,
-            current: None,
+    /// Calls `f(technique, j)` for the items `start + j`, `j < n`, with the
+    /// technique of each item's connection: made once for one connection;
+    /// per row, made again where the row changes (counted, not divided).
+    #[inline]
+    fn each<K: Kernel<F>>(
+        &self,
+        make: &impl Make<'a, F, K>,
+        start: usize,
+        n: usize,
+        mut f: impl FnMut(&K, usize),
+    ) -> Result<(), Bad> {
+        if n == 0 {
+            return Ok(());
         }
+        if let Geometry::One(_) = self.geometry {
+            let kernel = self.kernel(make, 0)?;
+            (0..n).for_each(|j| f(&kernel, j));
+            return Ok(());
+        }
+        let mut row = start / self.per_row;
+        let mut left = self.per_row - start % self.per_row;
+        let mut kernel = self.kernel(make, row)?;
+        for j in 0..n {
+            if left == 0 {
+                (row, left) = (row + 1, self.per_row);
+                kernel = self.kernel(make, row)?;
+            }
+            left -= 1;
+            f(&kernel, j);
+        }
+        Ok(())
+    }
+
+    /// The technique of `row`, made by `make`; the core's refusal names the
+    /// row.
+    #[inline(always)]
+    fn kernel<K: Kernel<F>>(&self, make: &impl Make<'a, F, K>, row: usize) -> Result<K, Bad> {
+        let (connection, directions) = self.geometry.at(row)?;
+        let setup = match directions {
+            Some(d) => self.setup.with_directions(d),
+            None => self.setup,
+        };
+        make(connection, setup).map_err(|error| Bad::Row {
+            row,
+            error,
+            precision: crate::array::dtype_name::<F>(),
+        })
     }
 
     /// Draws for consecutive rows of `uniforms(method)` numbers in `u`
@@ -284,9 +302,7 @@ impl<'a, F: Real> Context<'a, F> {
 
     fn sample_with<K: Kernel<F>>(
         &self,
-        make: &(
-             impl Fn(Connection<F>, Setup<F, PhaseRef<'a, F>>) -> Result<K, omnee_core::Error> + Sync
-         ),
+        make: &impl Make<'a, F, K>,
         u: &[F],
         out: SampleOut<'_, F>,
     ) -> Result<(), Bad> {
@@ -311,34 +327,28 @@ impl<'a, F: Real> Context<'a, F> {
             },
         );
         run(all, |start, (u, x1, pdf, weight, valid)| {
-            let mut current = self.current(make);
-            let draws = u.data.chunks_exact(k).zip(x1.data.chunks_exact_mut(3 * v));
-            let outs = pdf
-                .data
-                .chunks_exact_mut(v)
-                .zip(weight.data.chunks_exact_mut(v));
-            let outs = outs.zip(valid.data.chunks_exact_mut(v));
-            for (j, ((u, x1), ((pdf, weight), valid))) in draws.zip(outs).enumerate() {
-                if let Some(i) = u.iter().position(|&x| !(x >= F::ZERO && x <= F::ONE)) {
-                    let (at, value) = ((start + j) * k + i, number(u[i]));
-                    return Err(Bad::Element {
-                        arg: "u",
-                        at,
-                        value,
-                        allowed: "[0, 1]",
-                    });
-                }
-                let vertices = current.at(start + j)?.draw(u);
+            if let Some((i, x)) = first_outside(u.data, F::ZERO, F::ONE) {
+                let (at, value) = (start * k + i, number(x));
+                return Err(Bad::Element {
+                    arg: "u",
+                    at,
+                    value,
+                    allowed: "[0, 1]",
+                });
+            }
+            let n = u.data.len() / k;
+            self.each(make, start, n, |kernel, j| {
+                let vertices = kernel.draw(&u.data[k * j..k * j + k]);
                 for (t, vertex) in vertices[..v].iter().enumerate() {
                     let (point, values) = match vertex {
                         Some(s) => (s.x1.to_array(), (s.pdf, s.weight, true)),
                         None => ([F::ZERO; 3], (F::ZERO, F::ZERO, false)),
                     };
-                    x1[3 * t..3 * t + 3].copy_from_slice(&point);
-                    (pdf[t], weight[t], valid[t]) = values;
+                    let at = v * j + t;
+                    x1.data[3 * at..3 * at + 3].copy_from_slice(&point);
+                    (pdf.data[at], weight.data[at], valid.data[at]) = values;
                 }
-            }
-            Ok(())
+            })
         })
     }
 
@@ -351,20 +361,17 @@ impl<'a, F: Real> Context<'a, F> {
 
     fn pdf_with<K: Kernel<F>>(
         &self,
-        make: &(
-             impl Fn(Connection<F>, Setup<F, PhaseRef<'a, F>>) -> Result<K, omnee_core::Error> + Sync
-         ),
+        make: &impl Make<'a, F, K>,
         x1: &[F],
         out: &mut [F],
     ) -> Result<(), Bad> {
         let all = (Items { data: x1, k: 3 }, Items { data: out, k: 1 });
         run(all, |start, (x1, out)| {
             check_points(x1.data, start)?;
-            let mut current = self.current(make);
-            for (j, (p, out)) in x1.data.chunks_exact(3).zip(out.data).enumerate() {
-                *out = current.at(start + j)?.pdf(F::Vec3::new(p[0], p[1], p[2]));
-            }
-            Ok(())
+            self.each(make, start, out.data.len(), |kernel, j| {
+                let p = &x1.data[3 * j..3 * j + 3];
+                out.data[j] = kernel.pdf(F::Vec3::new(p[0], p[1], p[2]));
+            })
         })
     }
 
@@ -377,9 +384,7 @@ impl<'a, F: Real> Context<'a, F> {
 
     fn invert_with<K: Kernel<F>>(
         &self,
-        make: &(
-             impl Fn(Connection<F>, Setup<F, PhaseRef<'a, F>>) -> Result<K, omnee_core::Error> + Sync
-         ),
+        make: &impl Make<'a, F, K>,
         x1: &[F],
         u: &mut [F],
         valid: &mut [bool],
@@ -391,16 +396,12 @@ impl<'a, F: Real> Context<'a, F> {
         );
         run(all, |start, (x1, u, valid)| {
             check_points(x1.data, start)?;
-            let mut current = self.current(make);
-            let items = x1.data.chunks_exact(3).zip(u.data.chunks_exact_mut(3));
-            for (j, ((p, u), valid)) in items.zip(valid.data).enumerate() {
-                let inverse = current
-                    .at(start + j)?
-                    .invert(F::Vec3::new(p[0], p[1], p[2]));
-                u.copy_from_slice(&inverse.unwrap_or([F::ZERO; 3]));
-                *valid = inverse.is_some();
-            }
-            Ok(())
+            self.each(make, start, valid.data.len(), |kernel, j| {
+                let p = &x1.data[3 * j..3 * j + 3];
+                let inverse = kernel.invert(F::Vec3::new(p[0], p[1], p[2]));
+                u.data[3 * j..3 * j + 3].copy_from_slice(&inverse.unwrap_or([F::ZERO; 3]));
+                valid.data[j] = inverse.is_some();
+            })
         })
     }
 }

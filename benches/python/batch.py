@@ -1,0 +1,196 @@
+#!/usr/bin/env python3
+"""omnee's Python batch: ns per sample of `Omnee.sample` against N, one
+connection and one connection per row, on all cores and on one; the peak
+memory of a call against its output arrays; the ratio to the core's
+criterion benchmarks if their results are at hand.
+
+Usage (with omnee installed, e.g. `pip install ./omnee-py`):
+
+    python3 benches/python/batch.py [--quick] [--criterion DIR] [--dtype float32|float64]
+
+Times: wall time (time.perf_counter) and CPU time of the whole process,
+all threads (time.process_time), per sample, the best of several calls
+(at least 3, and at least 10^7 samples per size). "1 thread" runs in a
+child process with RAYON_NUM_THREADS=1, so its CPU time per sample compares
+with criterion's CPU time of the core's own loops; "all cores" is what a
+user's call takes. Per row: x0 and x2 of shape (N, 3), each row its own
+connection, timed with the construction of the technique (what a renderer
+pays per batch: it makes one technique per batch of shading points).
+
+Memory: each size in a fresh child process; the inputs are made in place
+(no temporaries), one small call warms the pool up, then the peak resident
+set (resource.getrusage, ru_maxrss) before and after one call; the increase
+is divided by the bytes of the arrays the call returns (x1, pdf, weight,
+valid).
+
+Prints Markdown tables (docs/benchmarks.md has the output of one run).
+"""
+
+import argparse
+import json
+import os
+import pathlib
+import resource
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+import omnee
+
+PHASE = "hg:0.9"
+X0, X2 = (0.0, 0.0, 1.0), (0.0, 0.0, 0.0)
+SIZES = [10**4, 10**5, 10**6, 10**7]
+
+
+def inputs(n, dtype, rows):
+    """Uniform numbers and, per row, end points made in place (no
+    temporaries: the memory run counts every byte). Rows: the light on a
+    ring of radius 0.1 about x0 and receivers about x2, never coincident."""
+    rng = np.random.default_rng(1)
+
+    def uniform():
+        a = np.empty((n, 3), dtype)
+        rng.random(out=a, dtype=dtype)
+        return a
+
+    u = uniform()
+    if not rows:
+        return u, X0, X2
+    x0, x2 = uniform(), uniform()
+    x0 *= 0.1
+    x0 += np.asarray(X0, dtype)
+    x2 *= 0.1
+    x2 -= np.asarray((0.0, 0.0, 0.5), dtype)
+    return u, x0, x2
+
+
+def timed(n, dtype, rows, repeats):
+    """(wall, cpu) seconds per sample, the best of `repeats` calls."""
+    u, x0, x2 = inputs(n, dtype, rows)
+    one = omnee.Omnee(X0, X2, PHASE)
+    out = None
+    best_wall = best_cpu = float("inf")
+    for _ in range(repeats):
+        out = None  # each call returns fresh arrays, as a user's does
+        w, c = time.perf_counter(), time.process_time()
+        t = omnee.Omnee(x0, x2, PHASE) if rows else one
+        out = t.sample(u)
+        w, c = time.perf_counter() - w, time.process_time() - c
+        best_wall, best_cpu = min(best_wall, w), min(best_cpu, c)
+    del out
+    return best_wall / n, best_cpu / n
+
+
+def repeats_for(n, quick):
+    return max(3, (10**6 if quick else 10**7) // n)
+
+
+def speed(dtype, quick):
+    """{(rows, n): (wall, cpu)} in this process."""
+    return {
+        (rows, n): timed(n, dtype, rows, repeats_for(n, quick))
+        for rows in (False, True)
+        for n in SIZES
+    }
+
+
+def child(args, env=None):
+    """This script with `args` in a child process; its JSON output."""
+    cmd = [sys.executable, __file__, *args]
+    out = subprocess.run(cmd, check=True, capture_output=True, text=True, env=env).stdout
+    return json.loads(out)
+
+
+def peak_rss(n, dtype, rows):
+    """(increase of the peak RSS over one call, bytes of its outputs)."""
+    u, x0, x2 = inputs(n, dtype, rows)
+    t = omnee.Omnee(x0, x2, PHASE) if rows else omnee.Omnee(X0, X2, PHASE)
+    small = 1000
+    if rows:
+        omnee.Omnee(x0[:small], x2[:small], PHASE).sample(u[:small])
+    else:
+        t.sample(u[:small])
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    s = t.sample(u)
+    after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    return after - before, sum(a.nbytes for a in s)
+
+
+def criterion(directory):
+    """ns per sample of the core's `batch/f32/omnee/hg0.9` and
+    `sample/f32/omnee/hg0.9` (256 samples per iteration), if measured."""
+    found = {}
+    for name in ("batch/f32/omnee/hg0.9", "sample/f32/omnee/hg0.9", "sample/f64/omnee/hg0.9"):
+        path = pathlib.Path(directory, *name.split("/"), "new", "estimates.json")
+        if path.is_file():
+            found[name] = json.loads(path.read_text())["mean"]["point_estimate"] / 256
+    return found
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--quick", action="store_true", help="fewer repeats")
+    p.add_argument("--dtype", default="float32", choices=["float32", "float64"])
+    target = os.environ.get("CARGO_TARGET_DIR", "target")
+    p.add_argument("--criterion", default=str(pathlib.Path(target, "criterion")))
+    p.add_argument("--speed-child", action="store_true", help=argparse.SUPPRESS)
+    p.add_argument("--memory-child", nargs=2, help=argparse.SUPPRESS)
+    a = p.parse_args()
+    dtype = np.dtype(a.dtype)
+
+    if a.speed_child:
+        print(json.dumps([[r, n, *v] for (r, n), v in speed(dtype, a.quick).items()]))
+        return
+    if a.memory_child:
+        n, rows = int(a.memory_child[0]), a.memory_child[1] == "rows"
+        print(json.dumps(peak_rss(n, dtype, rows)))
+        return
+
+    flags = ["--dtype", a.dtype] + (["--quick"] if a.quick else [])
+    print(f"omnee {omnee.__version__}, numpy {np.__version__}, Python {sys.version.split()[0]}, "
+          f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.1f} at start; "
+          f"Omnee({PHASE}), {a.dtype}\n")
+    runs = {"all cores": speed(dtype, a.quick)}
+    single = dict(os.environ, RAYON_NUM_THREADS="1")
+    runs["1 thread"] = {(r, n): (w, c) for r, n, w, c in child(["--speed-child", *flags], single)}
+
+    core = criterion(a.criterion)
+    batch = core.get("batch/f32/omnee/hg0.9")
+    print("#### ns per sample (wall; CPU of all threads), best of several calls\n")
+    print("| threads | N | one connection | per row (with construction) | per row ÷ one (CPU) |"
+          + (" one ÷ core batch (CPU) |" if batch else ""))
+    print("|---|---|---|---|---|" + ("---|" if batch else ""))
+    for label, r in runs.items():
+        for n in SIZES:
+            (w1, c1), (wr, cr) = r[(False, n)], r[(True, n)]
+            row = (f"| {label} | 10^{len(str(n)) - 1} | {w1 * 1e9:.1f}; {c1 * 1e9:.1f} "
+                   f"| {wr * 1e9:.1f}; {cr * 1e9:.1f} | {cr / c1:.2f} |")
+            if batch:
+                row += f" {c1 * 1e9 / batch:.2f} |"
+            print(row)
+    print()
+    for label, r in runs.items():
+        for rows in (False, True):
+            cpu = [r[(rows, n)][1] for n in SIZES]
+            wall = [r[(rows, n)][0] for n in SIZES]
+            flat = max(cpu[1:]) / min(cpu[1:])
+            flat_wall = max(wall[1:]) / min(wall[1:])
+            kind = "per row" if rows else "one connection"
+            print(f"- {label}, {kind}: max/min over N = 10^5…10^7: CPU {flat:.2f}, wall {flat_wall:.2f}")
+    if core:
+        print("- the core (criterion, CPU, ns per sample): "
+              + ", ".join(f"`{k}` {v:.1f}" for k, v in core.items()))
+    print("\n#### Peak memory of one call (child process per row of the table)\n")
+    print("| N | connections | outputs (MB) | peak RSS increase (MB) | ratio |")
+    print("|---|---|---|---|---|")
+    for n in SIZES[2:]:
+        for rows in ("one", "rows"):
+            grew, outputs = child(["--memory-child", str(n), rows, *flags])
+            print(f"| 10^{len(str(n)) - 1} | {'per row' if rows == 'rows' else 'one'} "
+                  f"| {outputs / 1e6:.1f} | {grew / 1e6:.1f} | {grew / outputs:.2f} |")
+
+
+if __name__ == "__main__":
+    main()
