@@ -6,9 +6,9 @@ use crate::chunks::{Items, run};
 use crate::config::canonical;
 use crate::error;
 use numpy::{Element, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
-use omnee_cli::phase::{PhaseSpec, TableStorage};
 use omnee_core::Real;
 use omnee_core::phase::{Deflection, Phase as CorePhase, PhaseFunction};
+use omnee_render::phase::{PhaseSpec, TableStorage};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use std::hash::{Hash, Hasher};
@@ -65,7 +65,7 @@ impl Phase {
     /// The phase function from `spec`, as `omnee estimate --phase` takes it.
     pub fn parse(spec: &str) -> PyResult<Self> {
         Ok(Self {
-            spec: PhaseSpec::parse(spec).map_err(error::cli)?,
+            spec: PhaseSpec::parse(spec).map_err(error::render)?,
         })
     }
 
@@ -165,7 +165,7 @@ impl Phase {
         &self,
         storage: &'a mut TableStorage<F>,
     ) -> PyResult<CorePhase<'a, F>> {
-        self.spec.instantiate::<F>(storage).map_err(error::cli)
+        self.spec.instantiate::<F>(storage).map_err(error::render)
     }
 }
 

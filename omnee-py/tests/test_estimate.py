@@ -108,3 +108,24 @@ def test_float64_by_default_so_that_a_small_transfer_does_not_underflow():
     assert omnee.estimate(dtype=np.float64, **kw)[:3] == e[:3]
     f32 = omnee.estimate(dtype="float32", **kw)
     assert f32.mean == 0.0 and f32.stderr == 0.0
+
+
+@pytest.mark.parametrize("reference", [False, True])
+def test_ctrl_c_interrupts_at_once_even_at_2_to_the_40_samples(reference):
+    """Ctrl-C (here `_thread.interrupt_main`, which trips the same flag as
+    SIGINT) raises KeyboardInterrupt within a second of the signal, where
+    the draws alone would take hours; the work stops behind it."""
+    import _thread
+    import threading
+    import time
+
+    timer = threading.Timer(0.3, _thread.interrupt_main)
+    start = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        omnee.estimate(x0=(0, 0, 1), x2=(0, 0, 0), sigma_s=0.5, sigma_t=0.6, samples=2**40,
+                       reference=reference, threads=1)
+    assert time.monotonic() - start < 1.3
+    # The next call runs normally.
+    e = omnee.estimate(x0=(0, 0, 1), x2=(0, 0, 0), sigma_s=0.5, sigma_t=0.6, samples=1000)
+    assert e.samples == 1000
