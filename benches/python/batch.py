@@ -19,9 +19,9 @@ pays per batch: it makes one technique per batch of shading points).
 
 Memory: each size in a fresh child process; the inputs are made in place
 (no temporaries), one small call warms the pool up, then the peak resident
-set (resource.getrusage, ru_maxrss) before and after one call; the increase
-is divided by the bytes of the arrays the call returns (x1, pdf, weight,
-valid).
+set of the process (VmHWM in /proc/self/status) before and after one call;
+the increase is divided by the bytes of the arrays the call returns (x1,
+pdf, weight, valid).
 
 Prints Markdown tables (docs/benchmarks.md has the output of one run).
 """
@@ -66,21 +66,36 @@ def inputs(n, dtype, rows):
     return u, x0, x2
 
 
-def timed(n, dtype, rows, repeats):
-    """(wall, cpu) seconds per sample, the best of `repeats` calls."""
-    u, x0, x2 = inputs(n, dtype, rows)
+def timed(n, dtype, case, repeats):
+    """(wall, CPU, system) seconds per sample: wall and CPU time (of the
+    whole process, all threads: time.process_time) the least of `repeats`
+    calls; the system part of the CPU time (page faults) over all calls
+    (getrusage counts it in clock ticks). `case`: "one" (fresh output
+    arrays, as `t.sample(u)` returns them), "out" (into arrays made once,
+    `out=`), "rows" (a connection per row, the technique made in the call)."""
+    u, x0, x2 = inputs(n, dtype, case == "rows")
     one = omnee.Omnee(X0, X2, PHASE)
     out = None
+    if case == "out":
+        out = [np.empty((n, *a.shape[1:]), a.dtype) for a in one.sample(u[:1])]
+        one.sample(u, out=out)  # the pages of the arrays made once
     best_wall = best_cpu = float("inf")
+    system = resource.getrusage(resource.RUSAGE_SELF).ru_stime
     for _ in range(repeats):
-        out = None  # each call returns fresh arrays, as a user's does
-        w, c = time.perf_counter(), time.process_time()
-        t = omnee.Omnee(x0, x2, PHASE) if rows else one
-        out = t.sample(u)
+        s = None  # the previous call's arrays are freed, as in a user's loop
+        c, w = time.process_time(), time.perf_counter()
+        if case == "rows":
+            s = omnee.Omnee(x0, x2, PHASE).sample(u)
+        else:
+            s = one.sample(u, out=out)
         w, c = time.perf_counter() - w, time.process_time() - c
         best_wall, best_cpu = min(best_wall, w), min(best_cpu, c)
-    del out
-    return best_wall / n, best_cpu / n
+    system = resource.getrusage(resource.RUSAGE_SELF).ru_stime - system
+    del s
+    return best_wall / n, best_cpu / n, system / (n * repeats)
+
+
+CASES = ["one", "out", "rows"]
 
 
 def repeats_for(n, quick):
@@ -88,11 +103,9 @@ def repeats_for(n, quick):
 
 
 def speed(dtype, quick):
-    """{(rows, n): (wall, cpu)} in this process."""
+    """{(case, n): (wall, user, system)} in this process."""
     return {
-        (rows, n): timed(n, dtype, rows, repeats_for(n, quick))
-        for rows in (False, True)
-        for n in SIZES
+        (case, n): timed(n, dtype, case, repeats_for(n, quick)) for case in CASES for n in SIZES
     }
 
 
@@ -112,18 +125,31 @@ def peak_rss(n, dtype, rows):
         omnee.Omnee(x0[:small], x2[:small], PHASE).sample(u[:small])
     else:
         t.sample(u[:small])
-    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    before = peak_rss_bytes()
     s = t.sample(u)
-    after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
-    return after - before, sum(a.nbytes for a in s)
+    return peak_rss_bytes() - before, sum(a.nbytes for a in s)
+
+
+def peak_rss_bytes():
+    """The peak resident set of this process's memory (VmHWM; getrusage's
+    ru_maxrss would start from the parent's resident set at the fork)."""
+    for line in pathlib.Path("/proc/self/status").read_text().splitlines():
+        if line.startswith("VmHWM:"):
+            return int(line.split()[1]) * 1024
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
 
 
 def criterion(directory):
-    """ns per sample of the core's `batch/f32/omnee/hg0.9` and
-    `sample/f32/omnee/hg0.9` (256 samples per iteration), if measured."""
+    """ns per sample of the core's `batch/f32/omnee/hg0.9` (one connection,
+    vectorised), `sample/f32/omnee/hg0.9` (the scalar sampler),
+    `connection/f32/omnee-hg0.9` (a connection per sample: `Connection::new`
+    and the scalar sampler) and `sample/f64/omnee/hg0.9` (256 samples per
+    iteration), those that were measured."""
     found = {}
-    for name in ("batch/f32/omnee/hg0.9", "sample/f32/omnee/hg0.9", "sample/f64/omnee/hg0.9"):
-        path = pathlib.Path(directory, *name.split("/"), "new", "estimates.json")
+    for name in ("batch/f32/omnee/hg0.9", "sample/f32/omnee/hg0.9", "connection/f32/omnee-hg0.9",
+                 "sample/f64/omnee/hg0.9"):
+        group, precision, *bench = name.split("/")  # criterion writes "batch/f32" as batch_f32
+        path = pathlib.Path(directory, f"{group}_{precision}", *bench, "new", "estimates.json")
         if path.is_file():
             found[name] = json.loads(path.read_text())["mean"]["point_estimate"] / 256
     return found
@@ -141,7 +167,7 @@ def main():
     dtype = np.dtype(a.dtype)
 
     if a.speed_child:
-        print(json.dumps([[r, n, *v] for (r, n), v in speed(dtype, a.quick).items()]))
+        print(json.dumps([[c, n, *v] for (c, n), v in speed(dtype, a.quick).items()]))
         return
     if a.memory_child:
         n, rows = int(a.memory_child[0]), a.memory_child[1] == "rows"
@@ -152,33 +178,30 @@ def main():
     print(f"omnee {omnee.__version__}, numpy {np.__version__}, Python {sys.version.split()[0]}, "
           f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.1f} at start; "
           f"Omnee({PHASE}), {a.dtype}\n")
-    runs = {"all cores": speed(dtype, a.quick)}
     single = dict(os.environ, RAYON_NUM_THREADS="1")
-    runs["1 thread"] = {(r, n): (w, c) for r, n, w, c in child(["--speed-child", *flags], single)}
-
+    runs = {"1 thread": {(c, n): tuple(v) for c, n, *v in child(["--speed-child", *flags], single)}}
+    runs["all cores"] = speed(dtype, a.quick)
     core = criterion(a.criterion)
     batch = core.get("batch/f32/omnee/hg0.9")
-    print("#### ns per sample (wall; CPU of all threads), best of several calls\n")
-    print("| threads | N | one connection | per row (with construction) | per row ÷ one (CPU) |"
-          + (" one ÷ core batch (CPU) |" if batch else ""))
-    print("|---|---|---|---|---|" + ("---|" if batch else ""))
+    ns = lambda x: f"{x * 1e9:.1f}"
+    print("#### ns per sample: wall / CPU (all threads; its system part), least of several calls\n")
+    print("| threads | N | one connection | one, into `out=` | per row (made in the call) "
+          "| per row ÷ one (CPU) |" + (" one ÷ core batch (CPU) |" if batch else ""))
+    print("|---|---|---|---|---|---|" + ("---|" if batch else ""))
+    cell = lambda v: f"{v[0] * 1e9:.1f} / {v[1] * 1e9:.1f} ({v[2] * 1e9:.1f})"
     for label, r in runs.items():
         for n in SIZES:
-            (w1, c1), (wr, cr) = r[(False, n)], r[(True, n)]
-            row = (f"| {label} | 10^{len(str(n)) - 1} | {w1 * 1e9:.1f}; {c1 * 1e9:.1f} "
-                   f"| {wr * 1e9:.1f}; {cr * 1e9:.1f} | {cr / c1:.2f} |")
+            row = f"| {label} | 10^{len(str(n)) - 1} | " + " | ".join(cell(r[(c, n)]) for c in CASES)
+            row += f" | {r[('rows', n)][1] / r[('one', n)][1]:.2f} |"
             if batch:
-                row += f" {c1 * 1e9 / batch:.2f} |"
+                row += f" {r[('one', n)][1] * 1e9 / batch:.2f} |"
             print(row)
     print()
     for label, r in runs.items():
-        for rows in (False, True):
-            cpu = [r[(rows, n)][1] for n in SIZES]
-            wall = [r[(rows, n)][0] for n in SIZES]
-            flat = max(cpu[1:]) / min(cpu[1:])
-            flat_wall = max(wall[1:]) / min(wall[1:])
-            kind = "per row" if rows else "one connection"
-            print(f"- {label}, {kind}: max/min over N = 10^5…10^7: CPU {flat:.2f}, wall {flat_wall:.2f}")
+        for c in CASES:
+            wall, cpu = ([r[(c, n)][k] for n in SIZES[1:]] for k in (0, 1))
+            print(f"- {label}, {c}: max ÷ min over N = 10^5…10^7: wall {max(wall) / min(wall):.2f}, "
+                  f"CPU {max(cpu) / min(cpu):.2f}")
     if core:
         print("- the core (criterion, CPU, ns per sample): "
               + ", ".join(f"`{k}` {v:.1f}" for k, v in core.items()))

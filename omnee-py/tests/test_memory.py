@@ -1,6 +1,6 @@
 """A call's memory is its output arrays: inputs are read in place and
 outputs written in place, without temporaries. Measured as the growth of
-the peak resident set (ru_maxrss) over one call, in a fresh process."""
+the peak resident set (VmHWM) over one call, in a fresh process."""
 
 import json
 import subprocess
@@ -27,9 +27,16 @@ t = (omnee.Mis if kind == "mis" else omnee.Omnee)(x0, x2, "hg:0.9")
 u = uniform(t.dimension)
 small = 1000
 (omnee.Omnee(x0, x2[:small], "hg:0.9").sample(u[:small, :3]) if kind == "rows" else t.sample(u[:small]))
-before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+def peak():
+    # VmHWM: the peak of this process's own memory (ru_maxrss would start
+    # from the parent's resident set at the fork).
+    for line in open("/proc/self/status"):
+        if line.startswith("VmHWM:"):
+            return int(line.split()[1]) * 1024
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+before = peak()
 s = t.sample(u)
-after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+after = peak()
 print(json.dumps([after - before, sum(a.nbytes for a in s)]))
 """
 
