@@ -7,6 +7,7 @@ criterion benchmarks if their results are at hand.
 Usage (with omnee installed, e.g. `pip install ./omnee-py`):
 
     python3 benches/python/batch.py [--quick] [--criterion DIR] [--dtype float32|float64]
+                                    [--instructions]
 
 Times: wall time (time.perf_counter) and CPU time of the whole process,
 all threads (time.process_time), per sample, the best of several calls
@@ -22,6 +23,11 @@ Memory: each size in a fresh child process; the inputs are made in place
 set of the process (VmHWM in /proc/self/status) before and after one call;
 the increase is divided by the bytes of the arrays the call returns (x1,
 pdf, weight, valid).
+
+Instructions (--instructions, needs valgrind): user-space instructions per
+sample of one call on one thread, counted by callgrind, whatever the load
+of the machine (the page faults of fresh arrays are the kernel's, not
+counted).
 
 Prints Markdown tables (docs/benchmarks.md has the output of one run).
 """
@@ -139,6 +145,29 @@ def peak_rss_bytes():
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
 
 
+def instructions(n, dtype, case):
+    """Instructions per sample of one call (valgrind's callgrind, which
+    counts user-space instructions whatever the load): the difference
+    between a child that makes 3 calls and one that makes 1, over 2n."""
+    counts = []
+    for calls in (1, 3):
+        cmd = ["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", sys.executable,
+               __file__, "--calls-child", str(n), case, str(calls), "--dtype", dtype.name]
+        env = dict(os.environ, RAYON_NUM_THREADS="1")
+        err = subprocess.run(cmd, check=True, capture_output=True, text=True, env=env).stderr
+        refs = [line for line in err.splitlines() if "refs:" in line][-1]
+        counts.append(int(refs.split()[-1].replace(",", "")))
+    return (counts[1] - counts[0]) / (2 * n)
+
+
+def calls(n, dtype, case, k):
+    """`k` calls of `case` on the same inputs (the child of `instructions`)."""
+    u, x0, x2 = inputs(n, dtype, case == "rows")
+    one = omnee.Omnee(X0, X2, PHASE)
+    for _ in range(k):
+        (omnee.Omnee(x0, x2, PHASE) if case == "rows" else one).sample(u)
+
+
 def criterion(directory):
     """ns per sample of the core's `batch/f32/omnee/hg0.9` (one connection,
     vectorised), `sample/f32/omnee/hg0.9` (the scalar sampler),
@@ -163,6 +192,9 @@ def main():
     p.add_argument("--criterion", default=str(pathlib.Path(target, "criterion")))
     p.add_argument("--speed-child", action="store_true", help=argparse.SUPPRESS)
     p.add_argument("--memory-child", nargs=2, help=argparse.SUPPRESS)
+    p.add_argument("--calls-child", nargs=3, help=argparse.SUPPRESS)
+    p.add_argument("--instructions", action="store_true",
+                   help="also count instructions per sample with valgrind (minutes)")
     a = p.parse_args()
     dtype = np.dtype(a.dtype)
 
@@ -172,6 +204,9 @@ def main():
     if a.memory_child:
         n, rows = int(a.memory_child[0]), a.memory_child[1] == "rows"
         print(json.dumps(peak_rss(n, dtype, rows)))
+        return
+    if a.calls_child:
+        calls(int(a.calls_child[0]), dtype, a.calls_child[1], int(a.calls_child[2]))
         return
 
     flags = ["--dtype", a.dtype] + (["--quick"] if a.quick else [])
@@ -213,6 +248,13 @@ def main():
             grew, outputs = child(["--memory-child", str(n), rows, *flags])
             print(f"| 10^{len(str(n)) - 1} | {'per row' if rows == 'rows' else 'one'} "
                   f"| {outputs / 1e6:.1f} | {grew / 1e6:.1f} | {grew / outputs:.2f} |")
+    if a.instructions:
+        print("\n#### Instructions per sample, one thread (callgrind)\n")
+        print("| N | one connection | per row (made in the call) | per row ÷ one |")
+        print("|---|---|---|---|")
+        for n in (10**4, 10**5):
+            one, rows = instructions(n, dtype, "one"), instructions(n, dtype, "rows")
+            print(f"| 10^{len(str(n)) - 1} | {one:.0f} | {rows:.0f} | {rows / one:.2f} |")
 
 
 if __name__ == "__main__":
