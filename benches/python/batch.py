@@ -148,16 +148,16 @@ def peak_rss_bytes():
 def instructions(n, dtype, case):
     """Instructions per sample of one call (valgrind's callgrind, which
     counts user-space instructions whatever the load): the difference
-    between a child that makes 3 calls and one that makes 1, over 2n."""
+    between a child that makes 5 calls and one that makes 1, over 4n."""
     counts = []
-    for calls in (1, 3):
+    for calls in (1, 5):
         cmd = ["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", sys.executable,
                __file__, "--calls-child", str(n), case, str(calls), "--dtype", dtype.name]
         env = dict(os.environ, RAYON_NUM_THREADS="1")
         err = subprocess.run(cmd, check=True, capture_output=True, text=True, env=env).stderr
         refs = [line for line in err.splitlines() if "refs:" in line][-1]
         counts.append(int(refs.split()[-1].replace(",", "")))
-    return (counts[1] - counts[0]) / (2 * n)
+    return (counts[1] - counts[0]) / (4 * n)
 
 
 def calls(n, dtype, case, k):
@@ -217,19 +217,21 @@ def main():
     runs = {"1 thread": {(c, n): tuple(v) for c, n, *v in child(["--speed-child", *flags], single)}}
     runs["all cores"] = speed(dtype, a.quick)
     core = criterion(a.criterion)
-    batch = core.get("batch/f32/omnee/hg0.9")
-    ns = lambda x: f"{x * 1e9:.1f}"
-    print("#### ns per sample: wall / CPU (all threads; its system part), least of several calls\n")
+    batch = core.get("batch/f32/omnee/hg0.9") if a.dtype == "float32" else None
+    scalar = core.get(f"sample/{'f32' if a.dtype == 'float32' else 'f64'}/omnee/hg0.9")
+    print("#### ns per sample: wall / CPU of all threads (in parentheses: the system part, page faults, mean over the calls); wall and CPU the least of several calls\n")
     print("| threads | N | one connection | one, into `out=` | per row (made in the call) "
-          "| per row ÷ one (CPU) |" + (" one ÷ core batch (CPU) |" if batch else ""))
-    print("|---|---|---|---|---|---|" + ("---|" if batch else ""))
+          "| per row ÷ one (CPU) |" + (" one ÷ core scalar (CPU) |" if scalar else "")
+          + (" one ÷ core batch (CPU) |" if batch else ""))
+    print("|---|---|---|---|---|---|" + ("---|" if scalar else "") + ("---|" if batch else ""))
     cell = lambda v: f"{v[0] * 1e9:.1f} / {v[1] * 1e9:.1f} ({v[2] * 1e9:.1f})"
     for label, r in runs.items():
         for n in SIZES:
             row = f"| {label} | 10^{len(str(n)) - 1} | " + " | ".join(cell(r[(c, n)]) for c in CASES)
             row += f" | {r[('rows', n)][1] / r[('one', n)][1]:.2f} |"
-            if batch:
-                row += f" {r[('one', n)][1] * 1e9 / batch:.2f} |"
+            for reference in (scalar, batch):
+                if reference:
+                    row += f" {r[('one', n)][1] * 1e9 / reference:.2f} |"
             print(row)
     print()
     for label, r in runs.items():
@@ -252,7 +254,7 @@ def main():
         print("\n#### Instructions per sample, one thread (callgrind)\n")
         print("| N | one connection | per row (made in the call) | per row ÷ one |")
         print("|---|---|---|---|")
-        for n in (10**4, 10**5):
+        for n in (10**5,):
             one, rows = instructions(n, dtype, "one"), instructions(n, dtype, "rows")
             print(f"| 10^{len(str(n)) - 1} | {one:.0f} | {rows:.0f} | {rows / one:.2f} |")
 

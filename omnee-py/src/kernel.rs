@@ -6,7 +6,7 @@
 //! technique of a connection is made once per chunk (one connection) or
 //! once per row.
 
-use crate::array::{Bad, first_non_finite, first_outside, number};
+use crate::array::{Bad, first_non_finite, first_outside, number, vec3};
 use crate::chunks::{Items, run};
 use omnee_core::method::{Method, Setup};
 use omnee_core::mis::OmneeMis;
@@ -111,12 +111,6 @@ impl<F: Real> Geometry<'_, F> {
             }
         }
     }
-}
-
-/// A point in precision `F`.
-#[inline]
-fn vec3<F: Real>(a: [f64; 3]) -> F::Vec3 {
-    crate::array::vec3::<F>(a)
 }
 
 /// The phase function as the loops borrow it.
