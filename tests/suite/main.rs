@@ -11,6 +11,7 @@
 //! tests fail; `tests/mutants/README.md` has the table.
 
 mod chi2;
+mod connections;
 mod harness;
 mod lobe;
 mod properties;
