@@ -9,38 +9,8 @@
 //! A renderer gathers a tile's connections (each shading point with its
 //! light point), samples them in one call, then evaluates.
 //!
-//! **Each lane is the scalar call, bit for bit.** Lane `i` of
-//! [`Connections::sample_omnee`] is
-//!
-//! `Connection::new(x0_i, x2_i, θmax)` then `Omnee::new(c, phase).sample([u0_i, u1_i, u2_i])`,
-//!
-//! and of [`Connections::sample_mis`] the core's recommended
-//! [`OmneeMis`] (the equiangular companion of the [`Setup`]'s directions
-//! and region) on `[u0_i, u1_i, u2_i, v0_i, v1_i, v2_i]`: the same vertex,
-//! density and weight to the last bit, `valid = false` (and zeros) where
-//! the scalar constructor refuses the lane's end points or the sampler
-//! returns `None`. A lane never yields NaN.
-//!
-//! How the f32 lanes get there fast: the scalar sampler is latency-bound
-//! (one sample's chain of square roots, divisions and polynomials), and
-//! written without branches it vectorises across lanes, except where it
-//! calls `libm`'s square roots (an opaque instruction to the compiler, and
-//! stable `no_std` Rust has no other). So a chunk of [`CHUNK`] lanes goes
-//! through stages, each a loop over the chunk: the phase function's
-//! deflections ([`PhaseBatch`]: Henyey–Greenstein's inverse CDF vectorised
-//! but for the square root of its `atan`, any other phase function one call
-//! per lane), the square roots `s = |x2 − x0|` and `sin θ` lane by lane,
-//! then the frame, the triangle, the azimuth, `x1`, pdf and weight as one
-//! branch-free loop that the compiler turns into SIMD code (four lanes with
-//! SSE2). Every operation is the scalar path's, in its order, with its
-//! kernels ([`Real::sin_cos_acute`], the f64 polynomials of the f32 angle
-//! kernels); what a branch chooses in the scalar path a select chooses here,
-//! both sides computed. The one kernel written differently is the azimuth's
-//! sign `(−1)ʲ`, from `j² = 1` instead of an integer's parity; it agrees for
-//! `|u2| ≤ 1` (`j ∈ {−2, …, 2}`), and a lane outside (a NaN `u2`, say) is
-//! left to the scalar sampler, as are none else. In f64 the stages run the
-//! same code with `libm`'s trigonometry (the scalar f64 path's), lane by
-//! lane.
+//! The type's documentation ([`Connections`]) says what each lane is and
+//! how the f32 lanes are computed.
 
 use super::batch::clamp_unit;
 use super::{Connection, Equiangular, Omnee, Sample, Technique, Uniforms, saturate};
@@ -54,10 +24,13 @@ use crate::phase::{
 };
 use crate::real::{ATAN_SQRT, Real, Vector, sin_cos_acute_f64, sinc_is_series, sinc_series};
 
-/// Lanes per chunk: the stages of one chunk keep their values (nine numbers
-/// a lane) in arrays on the stack, 2.3 KiB in f32.
+/// Lanes per chunk: the stages of one chunk keep their values (eleven
+/// numbers a lane) in arrays on the stack, 2.9 KiB in f32.
 pub const CHUNK: usize = 64;
 
+/// Lanes per turn when a SIMD loop alternates with the square roots it
+/// feeds (measured: 4 and 8 leave the SIMD loops' short trip counts to
+/// their scalar remainders; 16 and 32 are equal).
 const GROUP: usize = 16;
 
 /// Points, one slice per coordinate: point `i` is `(x[i], y[i], z[i])`.
@@ -356,11 +329,95 @@ fn is_f32<F: Real>() -> bool {
 }
 
 /// A batch of connections `x0_i → x2_i` with one restriction θ < θmax: the
-/// structure-of-arrays form of [`Connection`], one connection per lane.
+/// structure-of-arrays form of [`Connection`], one connection per lane. The
+/// end points are the caller's and are not checked here: a lane whose
+/// points the scalar constructor refuses has no vertex
+/// ([`Connections::connection`]).
 ///
-/// The end points are the caller's and are not checked here: a lane whose
-/// points the scalar constructor refuses (non-finite, coincident, a
-/// distance that overflows) has no vertex ([`Connections::connection`]).
+/// **Each lane is the scalar call, bit for bit.** Lane `i` of
+/// [`Connections::sample_omnee`] is
+///
+/// `Connection::new(x0_i, x2_i, θmax)` then `Omnee::new(c, phase).sample([u0_i, u1_i, u2_i])`,
+///
+/// of [`Connections::sample_mis`] the core's recommended [`OmneeMis`] (the
+/// equiangular companion of the [`Setup`]'s directions and region) on
+/// `[u0_i, u1_i, u2_i, v0_i, v1_i, v2_i]`, and of
+/// [`Connections::sample_lobe_mis`] the recommended [`LobeMis`]: the same
+/// vertex, density and weight to the last bit, and `valid = false` (with
+/// zeros) where the scalar constructor refuses the lane's end points
+/// (non-finite, coincident, a distance that overflows) or the sampler
+/// returns `None`. One rule is the batch's own: a lane with a NaN or
+/// infinite uniform number has no vertex (the scalar samplers clamp `u0`
+/// into `[0, 1]`, a NaN to 0, and would draw one; the C API refuses such
+/// numbers). A lane never holds NaN.
+///
+/// **How the f32 lanes get there fast.** The scalar sampler is bound by
+/// latency (one sample's chain of square roots, divisions and
+/// polynomials); written without branches it vectorises across lanes,
+/// except where it takes `libm`'s square roots, an opaque instruction to
+/// the compiler (stable `no_std` Rust has no other). So a chunk of
+/// [`CHUNK`] lanes goes through stages, each a loop over the chunk:
+///
+/// 1. the phase function's deflections ([`PhaseBatch`]; Henyey–Greenstein
+///    in f32 vectorised around the one square root of its `atan`, any
+///    other phase function one call per lane);
+/// 2. the angles whose sines and cosines the f32 kernels take in f64 (the
+///    triangle's smaller angle, the azimuth) and the radicands of
+///    `s = |x2 − x0|` and `sin θ`, two f64 lanes to a register, alternating
+///    by sixteen lanes with the square roots lane by lane, so that the
+///    processor overlaps the two;
+/// 3. the frame, the triangle, `x1`, pdf and weight, branch-free, four f32
+///    lanes to a register (SSE2);
+/// 4. the rare lane left to the scalar sampler (below).
+///
+/// Every operation is the scalar path's, in its order, with its kernels
+/// ([`Real::sin_cos_acute`], the f64 polynomials of the f32 angle kernels);
+/// what a branch chooses in the scalar path a select chooses here, with
+/// both sides computed. The one kernel written differently is the
+/// azimuth's sign `(−1)ʲ`, from `j² = 1` instead of an integer's parity
+/// (SSE2 converts one lane at a time): it agrees for `|u2| ≤ 1`
+/// (`j ∈ {−2, …, 2}`), and a lane with a finite `u2` beyond is left to the
+/// scalar sampler. In f64 the same stages run with `libm`'s trigonometry
+/// (the scalar f64 path's), lane by lane.
+///
+/// ```
+/// use omnee_core::phase::HenyeyGreenstein;
+/// use omnee_core::sampling::{
+///     Connection, Connections, Omnee, Points, PointsMut, Samples, Technique, Uniforms,
+/// };
+/// use glam::Vec3;
+///
+/// # fn main() -> Result<(), omnee_core::Error> {
+/// // Three receivers on the floor, each with a light point of its own.
+/// let x0 = ([0.0f32, 0.5, -0.3], [0.0, 0.1, 0.2], [1.0, 1.2, 0.8]);
+/// let x2 = ([0.1f32, -0.2, 0.3], [0.0, 0.0, 0.1], [0.0; 3]);
+/// let connections = Connections::new(
+///     Points { x: &x0.0, y: &x0.1, z: &x0.2 },
+///     Points { x: &x2.0, y: &x2.1, z: &x2.2 },
+///     core::f32::consts::PI,
+/// )?;
+/// let (u0, u1, u2) = ([0.3f32, 0.6, 0.9], [0.5, 0.25, 0.75], [0.1, 0.4, 0.7]);
+/// let (mut x, mut y, mut z) = ([0.0f32; 3], [0.0; 3], [0.0; 3]);
+/// let (mut pdf, mut weight, mut valid) = ([0.0f32; 3], [0.0; 3], [false; 3]);
+/// let phase = HenyeyGreenstein::new(0.9)?;
+/// let n = connections.sample_omnee(
+///     &phase,
+///     Uniforms { u0: &u0, u1: &u1, u2: &u2 },
+///     Samples {
+///         x1: PointsMut { x: &mut x, y: &mut y, z: &mut z },
+///         pdf: &mut pdf,
+///         weight: &mut weight,
+///         valid: &mut valid,
+///     },
+/// )?;
+/// assert_eq!(n, 3);
+/// // Lane 1 is the scalar sample of its own connection, to the last bit.
+/// let c = Connection::new(Vec3::new(0.5, 0.1, 1.2), Vec3::new(-0.2, 0.0, 0.0), core::f32::consts::PI)?;
+/// let s = Omnee::new(c, phase).sample([0.6, 0.25, 0.4]).unwrap();
+/// assert_eq!((Vec3::new(x[1], y[1], z[1]), pdf[1], weight[1]), (s.x1, s.pdf, s.weight));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct Connections<'a, F: Real> {
     x0: Points<'a, F>,
@@ -441,8 +498,9 @@ impl<'a, F: Real> Connections<'a, F> {
     }
 
     /// OMNEE for every lane: lane `i` of `out` is
-    /// `Omnee::new(connection(i), phase).sample([u0[i], u1[i], u2[i]])`
-    /// (see the [module](self) for how, and that it is bit for bit). Returns
+    /// `Omnee::new(connection(i), phase).sample([u0[i], u1[i], u2[i]])`,
+    /// bit for bit, and no vertex if one of the three is NaN or infinite
+    /// (see [`Connections`] for how). Returns
     /// the number of lanes with a vertex. Fails with [`Error::Arrays`]
     /// (field `"connections"`) if a slice of `u` or `out` differs in length
     /// from the connections, writing nothing.
@@ -469,7 +527,9 @@ impl<'a, F: Real> Connections<'a, F> {
     /// is `OmneeMis::sample([u0, u1, u2, v0, v1, v2])` of lane `i`'s
     /// connection, bit for bit: OMNEE's vertex with its density and weight
     /// combined with the companion's behind the cone θ ≥ 3π/4, the
-    /// companion's vertex where it is drawn and lies behind the cone.
+    /// companion's vertex where it is drawn and lies behind the cone; no
+    /// vertex in either output where one of the six numbers is NaN or
+    /// infinite.
     /// Returns the number of vertices (of both outputs). Fails with
     /// [`Error::Arrays`] (field `"connections"`) if any slice differs in
     /// length from the connections, writing nothing.
@@ -497,12 +557,16 @@ impl<'a, F: Real> Connections<'a, F> {
             let n = (self.len - start).min(CHUNK);
             for i in start..start + n {
                 let behind = omnee.valid[i] && lanes.one_minus_cos[i - start] >= one_minus_cos_min;
-                if !(behind || v.u0[i] < rate) {
+                let finite = v.u0[i].is_finite() & v.u1[i].is_finite() & v.u2[i].is_finite();
+                if !(behind || v.u0[i] < rate || (omnee.valid[i] && !finite)) {
                     companion.set(i, None);
                     continue;
                 }
-                let vertices = self.connection(i).map_or([None, None], |c| {
-                    let u6 = [u.u0[i], u.u1[i], u.u2[i], v.u0[i], v.u1[i], v.u2[i]];
+                let u6 = [u.u0[i], u.u1[i], u.u2[i], v.u0[i], v.u1[i], v.u2[i]];
+                let lane = self
+                    .connection(i)
+                    .filter(|_| u6.iter().all(|x| x.is_finite()));
+                let vertices = lane.map_or([None, None], |c| {
                     let phase = setup.phase();
                     let equiangular =
                         Equiangular::new(c, phase, setup.directions(), setup.region());
@@ -526,7 +590,7 @@ impl<'a, F: Real> Connections<'a, F> {
     /// `LobeMis::recommended(connection(i), lobe_i, phase).sample([u0, u1, u2])`,
     /// one scalar call per lane (this technique has no vectorised path), so
     /// bit for bit; no vertex where the lobe refuses `incoming[i]` (zero or
-    /// not finite). Returns the number of lanes with a vertex. Fails with
+    /// not finite) or a uniform number is NaN or infinite. Returns the number of lanes with a vertex. Fails with
     /// [`Error::Arrays`] (field `"connections"`) if a slice differs in
     /// length from the connections, writing nothing.
     pub fn sample_lobe_mis<L: PhaseFunction<F> + Copy, P: Restricted<F> + Copy>(
@@ -546,9 +610,13 @@ impl<'a, F: Real> Connections<'a, F> {
         }
         let mut count = 0;
         for i in 0..self.len {
-            let sample = self.connection(i).and_then(|c| {
+            let ui = [u.u0[i], u.u1[i], u.u2[i]];
+            let lane = self
+                .connection(i)
+                .filter(|_| ui.iter().all(|x| x.is_finite()));
+            let sample = lane.and_then(|c| {
                 let lobe = PhaseLobe::new(lobe_phase, incoming.at(i)).ok()?;
-                LobeMis::recommended(c, lobe, phase).sample([u.u0[i], u.u1[i], u.u2[i]])
+                LobeMis::recommended(c, lobe, phase).sample(ui)
             });
             count += usize::from(sample.is_some());
             out.set(i, sample);
@@ -655,6 +723,7 @@ impl<'a, F: Real> Connections<'a, F> {
             &mut out.x1.z[range.clone()],
         );
         let (pdfs, weights) = (&mut out.pdf[range.clone()], &mut out.weight[range.clone()]);
+        let u0 = &u.u0[range.clone()];
         let valid = &mut out.valid[range];
         let theta_max = self.theta_max;
         for i in 0..n {
@@ -675,7 +744,9 @@ impl<'a, F: Real> Connections<'a, F> {
                 cos_phi: cos_phi[i],
             };
             let (x1, p, w, drawn) = lane.sample(theta_max);
-            let ok = drawn & !scalar[i];
+            // (A non-finite u1 fails the triangle, a non-finite u2 goes to
+            // the scalar path below.)
+            let ok = drawn & !scalar[i] & u0[i].is_finite();
             let zero = F::ZERO;
             xs[i] = if ok { x1[0] } else { zero };
             ys[i] = if ok { x1[1] } else { zero };
@@ -697,9 +768,11 @@ impl<'a, F: Real> Connections<'a, F> {
         for i in 0..n {
             if lanes.scalar[i] {
                 let j = start + i;
+                let uj = [u.u0[j], u.u1[j], u.u2[j]];
                 let sample = self
                     .connection(j)
-                    .and_then(|c| Omnee::new(c, phase).sample([u.u0[j], u.u1[j], u.u2[j]]));
+                    .filter(|_| uj.iter().all(|x| x.is_finite()))
+                    .and_then(|c| Omnee::new(c, phase).sample(uj));
                 count -= usize::from(out.valid[j]);
                 count += usize::from(sample.is_some());
                 out.set(j, sample);
@@ -1004,9 +1077,11 @@ mod tests {
             .unwrap();
         let mut expected = 0;
         for i in 0..n {
+            let ui = [u0[i], u1[i], u2[i]];
             let scalar = Connection::new(c.x0.at(i), c.x2.at(i), theta_max)
                 .ok()
-                .and_then(|conn| Omnee::new(conn, phase).sample([u0[i], u1[i], u2[i]]));
+                .filter(|_| ui.iter().all(|x| x.is_finite()))
+                .and_then(|conn| Omnee::new(conn, phase).sample(ui));
             expected += usize::from(scalar.is_some());
             assert_eq!(bits(out.lane(i)), bits(scalar), "lane {i}");
             assert!(out.x[i].is_finite() && out.pdf[i].is_finite() && out.weight[i].is_finite());
@@ -1092,10 +1167,11 @@ mod tests {
                 .unwrap();
             let (mut expected, mut companions) = (0, 0);
             for i in 0..n {
-                let want = c.connection(i).map_or([None, None], |conn| {
+                let u6 = [u0[i], u1[i], u2[i], v0[i], v1[i], v2[i]];
+                let lane = c.connection(i).filter(|_| u6.iter().all(|x| x.is_finite()));
+                let want = lane.map_or([None, None], |conn| {
                     let eq = Equiangular::new(conn, hg, Directions::Sphere, Region::Everywhere);
-                    OmneeMis::recommended(Omnee::new(conn, hg), &eq)
-                        .sample([u0[i], u1[i], u2[i], v0[i], v1[i], v2[i]])
+                    OmneeMis::recommended(Omnee::new(conn, hg), &eq).sample(u6)
                 });
                 assert_eq!(bits(o.lane(i)), bits(want[0]), "g {g} lane {i}");
                 assert_eq!(bits(k.lane(i)), bits(want[1]), "g {g} lane {i}");
@@ -1147,9 +1223,11 @@ mod tests {
             .unwrap();
         let mut expected = 0;
         for i in 0..n {
-            let want = c.connection(i).and_then(|conn| {
+            let ui = [u0[i], u1[i], u2[i]];
+            let lane = c.connection(i).filter(|_| ui.iter().all(|x| x.is_finite()));
+            let want = lane.and_then(|conn| {
                 let lobe = PhaseLobe::new(water, F64Vec::new(ix[i], iy[i], iz[i])).ok()?;
-                LobeMis::recommended(conn, lobe, water).sample([u0[i], u1[i], u2[i]])
+                LobeMis::recommended(conn, lobe, water).sample(ui)
             });
             assert_eq!(bits(out.lane(i)), bits(want), "lane {i}");
             expected += usize::from(want.is_some());
