@@ -1,6 +1,6 @@
 //! Cost of one sample: nanoseconds per `sample` and per `pdf` for every
 //! technique and phase function, in f32 and f64, and the cost of one
-//! once-more connection of the slab renderer per technique (issue 4, item 1).
+//! once-more connection of the slab renderer per technique.
 //!
 //! What is measured, per criterion benchmark:
 //!
@@ -27,9 +27,9 @@
 //! - `batch/f32/omnee/<hg>`: `Omnee::sample_batch`, the structure-of-arrays
 //!   entry point, on the batch's triples (compare `sample/f32/omnee/<hg>`).
 //! - `batch/f32/omnee-one/hg0.9`, `draw/f32/mis-{lazy,six}/hg0.9`,
-//!   `pdf/f32/equiangular-at-{point,vertex}/hg0.9`: issue 12's batch of one
-//!   vertex, `OmneeMis`'s lazy draw and the density at a vertex with its
-//!   offsets (see `issue12` below).
+//!   `pdf/f32/equiangular-at-{point,vertex}/hg0.9`: a batch of one vertex,
+//!   `OmneeMis`'s lazy draw and the density at a vertex with its offsets
+//!   (see `one_vertex_and_companion` below).
 //! - `connections_<f32|f64>/<technique>/<phase>`: `Connections`, the batch
 //!   over connections: the same 256 uniform triples per iteration as
 //!   `sample/*`, each lane with a connection of its own (end points from a
@@ -39,7 +39,7 @@
 //!   replaces (`Connection::new` and `Omnee::sample` per lane). Compare
 //!   with `sample/<precision>/omnee/<phase>` (one fixed connection, scalar)
 //!   and `batch/f32/omnee/<phase>` (one connection, vectorised).
-//! - `slab/<technique>`: one call of `omnee_cli::world::World::once_more` on
+//! - `slab/<technique>`: one call of `SlabWorld::once_more` on
 //!   the default scene (`omnee default-scene`) for 256 floor points: a light
 //!   point, the connection, the technique's vertex, closed-form
 //!   transmittance on both legs and the occluder tests.
@@ -130,7 +130,7 @@ impl ValueFormatter for CpuFormatter {
     }
 }
 
-/// Samples per criterion iteration.
+/// SampleArrays per criterion iteration.
 const BATCH: usize = 256;
 
 /// Inputs per pool: each iteration takes the next `BATCH` of them, so an
@@ -171,16 +171,9 @@ fn uniforms<F: Real>() -> Vec<[F; 3]> {
 
 /// `n` uniform triples of the same stream.
 fn uniforms_n<F: Real>(n: usize) -> Vec<[F; 3]> {
-    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-    let mut next = || {
-        state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        // 24 bits so that the f32 and f64 runs see the same numbers.
-        F::from_f64((z >> 40) as f64 / (1u64 << 24) as f64)
-    };
+    let mut rng = omnee::rng::SplitMix64::new(omnee::rng::SplitMix64::GAMMA);
+    // 24 bits so that the f32 and f64 runs see the same numbers.
+    let mut next = || F::from_f64((rng.next_u64() >> 40) as f64 / (1u64 << 24) as f64);
     (0..n).map(|_| [next(), next(), next()]).collect()
 }
 
@@ -414,16 +407,16 @@ fn all<F: Real>(c: &mut Criterion<CpuTime>, precision: &str) {
 }
 
 /// One once-more connection of the slab renderer, per technique: the cost of
-/// `World::once_more` at 256 floor points of the default scene.
+/// `SlabWorld::once_more` at 256 floor points of the default scene.
 fn slab(c: &mut Criterion<CpuTime>) {
     use omnee::method::Method;
-    use omnee_cli::rng::Rng;
-    use omnee_cli::scene::Scene;
-    use omnee_cli::world::{OnceMore, Roulette, Stats, World};
-    let scene = Scene::default_scene();
-    let mut storage = omnee_cli::phase::TableStorage::<f32>::default();
+    use omnee_render::rng::Rng;
+    use omnee_render::scenes::slab::world::{OnceMore, Roulette};
+    use omnee_render::scenes::slab::{SlabScene, SlabStats, SlabWorld};
+    let scene = SlabScene::default_scene();
+    let mut storage = omnee_render::phase::TableStorage::<f32>::default();
     let phase = scene.medium.phase.instantiate::<f32>(&mut storage).unwrap();
-    let world = World::new(&scene, phase).unwrap();
+    let world = SlabWorld::new(&scene, phase).unwrap();
     let points: Vec<glam::Vec3> = (0..BATCH)
         .map(|i| {
             glam::Vec3::new(
@@ -444,7 +437,7 @@ fn slab(c: &mut Criterion<CpuTime>) {
         group.bench_function(method.name(), |b| {
             b.iter(|| {
                 pass += 1;
-                let mut stats = Stats::default();
+                let mut stats = SlabStats::default();
                 let mut acc = 0.0f32;
                 for (i, &p) in points.iter().enumerate() {
                     let mut rng = Rng::stream(7, i as u64, pass);
@@ -505,7 +498,8 @@ fn batch(c: &mut Criterion<CpuTime>) {
     group.finish();
 }
 
-/// Issue 12's other measurements, f32, HG 0.9, the connection of `sample/*`:
+/// One vertex at a time and MIS's companion, f32, HG 0.9, the connection of
+/// `sample/*`:
 ///
 /// - `batch/f32/omnee-one/hg0.9`: `Omnee::sample_batch` called with one
 ///   vertex at a time, as a renderer that draws one vertex per connection
@@ -516,7 +510,7 @@ fn batch(c: &mut Criterion<CpuTime>) {
 /// - `pdf/f32/equiangular-at-{point,vertex}/hg0.9`: the companion's
 ///   density at OMNEE's vertices from the point (`pdf(x1)`) and from the
 ///   vertex with its offsets (`pdf_vertex`), what `OmneeMis` evaluates.
-fn issue12(c: &mut Criterion<CpuTime>) {
+fn one_vertex_and_companion(c: &mut Criterion<CpuTime>) {
     use omnee::rng::SplitMix64;
     use omnee::sampling::{Uniforms, Vertex, Vertices, uniform};
     let full = Connection::new(glam::Vec3::Z, glam::Vec3::ZERO, std::f32::consts::PI).unwrap();
@@ -643,7 +637,7 @@ fn connections<F: Real, P: omnee::sampling::PhaseBatch<F> + Copy>(
     with_mis: bool,
 ) {
     use omnee::method::Setup;
-    use omnee::sampling::{Connections, Points, PointsMut, Samples, Uniforms};
+    use omnee::sampling::{Connections, Points, PointsMut, SampleArrays, Uniforms};
     let [ax, ay, az, bx, by, bz] = endpoints::<F>();
     let us = uniforms::<F>();
     let soa = |k: usize| us.iter().map(|u| u[k]).collect::<Vec<F>>();
@@ -682,7 +676,7 @@ fn connections<F: Real, P: omnee::sampling::PhaseBatch<F> + Copy>(
         b.iter(|| {
             let w = window();
             let [x, y, z, pdf, weight, ..] = &mut out;
-            let samples = Samples {
+            let samples = SampleArrays {
                 x1: PointsMut { x, y, z },
                 pdf,
                 weight,
@@ -721,13 +715,13 @@ fn connections<F: Real, P: omnee::sampling::PhaseBatch<F> + Copy>(
                 let w = window();
                 let [x, y, z, pdf, weight, cx, cy, cz, cpdf, cweight] = &mut out;
                 let [valid, cvalid] = &mut valid;
-                let omnee = Samples {
+                let omnee = SampleArrays {
                     x1: PointsMut { x, y, z },
                     pdf,
                     weight,
                     valid,
                 };
-                let companion = Samples {
+                let companion = SampleArrays {
                     x1: PointsMut {
                         x: cx,
                         y: cy,
@@ -781,7 +775,7 @@ fn benches(c: &mut Criterion<CpuTime>) {
     all::<f32>(c, "f32");
     all::<f64>(c, "f64");
     batch(c);
-    issue12(c);
+    one_vertex_and_companion(c);
     all_connections(c);
     slab(c);
 }

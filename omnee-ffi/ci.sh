@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# CI for the C API (issue 10), run by .ci/run from the repository root:
+# CI for the C API, run by .ci/run from the repository root:
 #  1. regenerates include/omnee.h with the pinned cbindgen and fails if the
 #     committed header differs;
 #  2. compiles the header alone as C99 and as C++17 (-Wall -Wextra -Werror

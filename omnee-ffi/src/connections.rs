@@ -17,7 +17,7 @@ use crate::types::{Precision, omnee_phase_f32, omnee_phase_f64, omnee_rays};
 use core::mem::{MaybeUninit, size_of};
 use omnee_core::Error;
 use omnee_core::method::Setup;
-use omnee_core::sampling::{Connections, Points, PointsMut, Samples, Uniforms};
+use omnee_core::sampling::{Connections, Points, PointsMut, SampleArrays, Uniforms};
 
 /// Points by coordinate: point `i` is `(x[i], y[i], z[i])`.
 #[repr(C)]
@@ -342,9 +342,9 @@ fn block<'a, F>(
     floats: &'a mut [&mut [F]; 5],
     range: core::ops::Range<usize>,
     mask: &'a mut [bool],
-) -> Samples<'a, F> {
+) -> SampleArrays<'a, F> {
     let [x, y, z, pdf, weight] = floats;
-    Samples {
+    SampleArrays {
         x1: PointsMut {
             x: &mut x[range.clone()],
             y: &mut y[range.clone()],

@@ -1,20 +1,23 @@
 //! `omnee.estimate`: the point-to-point once-more integral of
-//! `omnee estimate`, computed by the same function
-//! ([`omnee_cli::commands::estimate::estimate`]), so the same seed gives the
+//! `omnee estimate`, computed by the same function of the library
+//! ([`omnee_render::point::estimate::estimate`]), so the same seed gives the
 //! same numbers as `omnee estimate --json`. This module only turns Python's
-//! arguments into the command's options (whose fields the keyword arguments
-//! are named after, and which name a bad one as Python spells it) and the
-//! result into `omnee.Estimate`.
+//! arguments into the library's [`Problem`] (whose fields the keyword
+//! arguments are named after, and which names a bad one as Python spells
+//! it) and the result into `omnee.Estimate`.
 
 use crate::error;
 use crate::phase::Phase;
-use omnee_cli::commands::estimate::{EstimateArgs, LobeArgs, estimate as run};
-use omnee_cli::commands::problem::{Names, Precision, ProblemArgs};
-use omnee_cli::names;
-use omnee_cli::technique::Technique;
+use omnee_core::method::Choice;
+use omnee_core::names::Named;
+use omnee_render::error::Spelling;
+use omnee_render::parallel::with_threads;
+use omnee_render::point::estimate::estimate as run;
+use omnee_render::point::problem::{Precision, Problem};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use std::f64::consts::PI;
+use std::sync::atomic::AtomicBool;
 
 /// The precision from a numpy dtype (anything `numpy.dtype` accepts).
 fn precision(dtype: &Bound<'_, PyAny>) -> PyResult<Precision> {
@@ -31,11 +34,11 @@ fn precision(dtype: &Bound<'_, PyAny>) -> PyResult<Precision> {
 }
 
 /// The technique called `name`, or `auto`.
-fn technique(name: &str) -> PyResult<Technique> {
-    names::parse(name).ok_or_else(|| {
+fn technique(name: &str) -> PyResult<Choice> {
+    Choice::from_name(name).ok_or_else(|| {
         PyValueError::new_err(format!(
             "technique = \"{name}\" is not a technique; allowed: {}",
-            names::allowed::<Technique>()
+            Choice::allowed()
         ))
     })
 }
@@ -85,39 +88,41 @@ pub fn estimate<'py>(
         Some(p) => crate::technique::phase_arg(p)?,
         None => Phase::parse("iso")?,
     };
-    let args = EstimateArgs {
-        problem: ProblemArgs {
-            x0: crate::array::point("x0", x0)?,
-            x2: crate::array::point("x2", x2)?,
-            phase: phase.spec.to_string(),
-            sigma_s,
-            sigma_t,
-            theta_max,
-            receiver_normal: receiver_normal
-                .map(|n| crate::array::point("receiver_normal", n))
-                .transpose()?,
-            technique: self::technique(technique)?,
-            seed: unsigned("seed", seed, "[0, 2^64)")?,
-            precision: match dtype {
-                Some(d) => precision(d)?,
-                None => Precision::F32,
-            },
+    let problem = Problem {
+        x0: crate::array::point("x0", x0)?,
+        x2: crate::array::point("x2", x2)?,
+        phase: phase.spec.to_string(),
+        sigma_s,
+        sigma_t,
+        theta_max,
+        receiver_normal: receiver_normal
+            .map(|n| crate::array::point("receiver_normal", n))
+            .transpose()?,
+        technique: self::technique(technique)?,
+        seed: unsigned("seed", seed, "[0, 2^64)")?,
+        precision: match dtype {
+            Some(d) => precision(d)?,
+            None => Precision::F32,
         },
-        lobe: LobeArgs::default(),
-        samples: unsigned("samples", samples, "[1, 2^40]")?,
-        reference,
-        threads,
-        json: false,
+        x0_phase: None,
+        x0_incoming: None,
     };
+    let samples = unsigned("samples", samples, "[1, 2^40]")?;
+    let go = AtomicBool::new(false);
     let e = py
-        .detach(|| run(&args, Names::Fields))
-        .map_err(error::cli)?;
+        .detach(|| {
+            with_threads(threads, || {
+                run(&problem, samples, reference, Spelling::Fields, &go)
+            })
+        })
+        .and_then(|e| e)
+        .map_err(error::render)?;
     py.import("omnee")?.getattr("Estimate")?.call1((
         e.mean,
         e.stderr,
         e.reference,
-        e.choice.method.name(),
-        e.choice.reason,
+        e.technique.used.name(),
+        e.technique.reason.map(|r| r.to_string()),
         e.samples,
         e.accepted,
         e.mean_cosine,

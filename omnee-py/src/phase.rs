@@ -3,9 +3,9 @@
 
 use crate::array::{Floats, Values, floats, output};
 use crate::error;
-use omnee_cli::phase::{PhaseSpec, TableStorage};
 use omnee_core::Real;
 use omnee_core::phase::{Deflection, Phase as CorePhase, PhaseFunction};
+use omnee_render::phase::{PhaseSpec, TableStorage};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rayon::prelude::*;
@@ -55,7 +55,7 @@ impl Phase {
     /// The phase function from `spec`, as `omnee estimate --phase` takes it.
     pub fn parse(spec: &str) -> PyResult<Self> {
         Ok(Self {
-            spec: PhaseSpec::parse(spec).map_err(error::cli)?,
+            spec: PhaseSpec::parse(spec).map_err(error::render)?,
         })
     }
 
@@ -83,7 +83,7 @@ impl Phase {
         let phase = self
             .spec
             .instantiate::<F>(&mut storage)
-            .map_err(error::cli)?;
+            .map_err(error::render)?;
         if matches!(op, Op::Invert) && phase.invert(Deflection::from_theta(F::ONE)).is_none() {
             return Err(PyValueError::new_err(format!(
                 "invert: the sampler of {} is not invertible (a mixture picks its lobe with u); \
@@ -113,7 +113,7 @@ impl Phase {
         &self,
         storage: &'a mut TableStorage<F>,
     ) -> PyResult<CorePhase<'a, F>> {
-        self.spec.instantiate::<F>(storage).map_err(error::cli)
+        self.spec.instantiate::<F>(storage).map_err(error::render)
     }
 }
 

@@ -9,7 +9,6 @@
 use crate::array::{Floats, Values, coords, floats, output, point, vec3, with_axes};
 use crate::error;
 use crate::phase::{PARALLEL_MIN, Phase};
-use omnee_cli::phase::TableStorage;
 use omnee_core::medium::Region;
 use omnee_core::method::{Method, Setup};
 use omnee_core::phase::Phase as CorePhase;
@@ -18,6 +17,7 @@ use omnee_core::sampling::{
     Omnee as CoreOmnee, Sample, Technique as CoreTechnique,
 };
 use omnee_core::{Real, Vector};
+use omnee_render::phase::TableStorage;
 use pyo3::exceptions::PyNotImplementedError;
 use pyo3::prelude::*;
 use rayon::prelude::*;

@@ -24,8 +24,8 @@ use omnee::phase::{
     TableSampled, Tabulated,
 };
 use omnee::sampling::{
-    Connection, Connections, Directions, Omnee, PhaseBatch, Points, PointsMut, Sample, Samples,
-    Technique, Uniforms,
+    Connection, Connections, Directions, Omnee, PhaseBatch, Points, PointsMut, Sample,
+    SampleArrays, Technique, Uniforms,
 };
 use omnee::{Error, Real, Vector};
 use proptest::prelude::*;
@@ -262,8 +262,8 @@ impl<F: Real> Out<F> {
         }
     }
 
-    fn samples(&mut self) -> Samples<'_, F> {
-        Samples {
+    fn samples(&mut self) -> SampleArrays<'_, F> {
+        SampleArrays {
             x1: PointsMut {
                 x: &mut self.x,
                 y: &mut self.y,
@@ -324,19 +324,13 @@ fn check_omnee<F: Real, P: PhaseBatch<F> + Copy>(
         .sample_omnee(&phase, soa.uniforms(0), out.samples())
         .unwrap();
     let mut expected = 0;
-    for i in 0..lanes.len() {
+    for (i, lane) in lanes.iter().enumerate() {
         let u = soa.u(i);
         let scalar = Connection::new(soa.x0(i), soa.x2(i), theta_max)
             .ok()
             .filter(|_| finite(&u[..3]))
             .and_then(|conn| Omnee::new(conn, phase).sample([u[0], u[1], u[2]]));
-        prop_assert_eq!(
-            bits(out.lane(i)),
-            bits(scalar),
-            "lane {}: {:?}",
-            i,
-            lanes[i]
-        );
+        prop_assert_eq!(bits(out.lane(i)), bits(scalar), "lane {}: {:?}", i, lane);
         expected += usize::from(scalar.is_some());
     }
     prop_assert_eq!(count, expected);
@@ -422,7 +416,7 @@ fn check_mis<F: Real>(
         )
         .unwrap();
     let mut expected = 0;
-    for i in 0..lanes.len() {
+    for (i, lane) in lanes.iter().enumerate() {
         let u = soa.u(i);
         let want = match Connection::new(soa.x0(i), soa.x2(i), F::PI) {
             Ok(conn) if finite(&u) => {
@@ -433,8 +427,8 @@ fn check_mis<F: Real>(
             }
             _ => [None, None],
         };
-        prop_assert_eq!(bits(o.lane(i)), bits(want[0]), "lane {}: {:?}", i, lanes[i]);
-        prop_assert_eq!(bits(k.lane(i)), bits(want[1]), "lane {}: {:?}", i, lanes[i]);
+        prop_assert_eq!(bits(o.lane(i)), bits(want[0]), "lane {}: {:?}", i, lane);
+        prop_assert_eq!(bits(k.lane(i)), bits(want[1]), "lane {}: {:?}", i, lane);
         expected += want.iter().flatten().count();
     }
     prop_assert_eq!(count, expected);
@@ -459,7 +453,7 @@ fn check_lobe<F: Real>(lanes: &[Lane], g0: f64, g1: f64) -> Result<usize, TestCa
             out.samples(),
         )
         .unwrap();
-    for i in 0..lanes.len() {
+    for (i, lane) in lanes.iter().enumerate() {
         let want = Connection::new(soa.x0(i), soa.x2(i), F::PI)
             .ok()
             .filter(|_| finite(&soa.u(i)[..3]))
@@ -470,7 +464,7 @@ fn check_lobe<F: Real>(lanes: &[Lane], g0: f64, g1: f64) -> Result<usize, TestCa
                 let u = soa.u(i);
                 LobeMis::recommended(conn, lobe, phase).sample([u[0], u[1], u[2]])
             });
-        prop_assert_eq!(bits(out.lane(i)), bits(want), "lane {}: {:?}", i, lanes[i]);
+        prop_assert_eq!(bits(out.lane(i)), bits(want), "lane {}: {:?}", i, lane);
     }
     Ok(count)
 }

@@ -1,4 +1,4 @@
-//! The workspace-wide verification suite of omnee (issue 6): χ² goodness of
+//! The workspace-wide verification suite of omnee: χ² goodness of
 //! fit of every sampler, proptest properties, numerical stability at extreme
 //! inputs, and unbiasedness against the quadrature reference.
 //!

@@ -74,7 +74,7 @@ pub struct PointsMut<'a, F> {
 /// weight, and `valid[i]`, whether lane `i` has a vertex (the scalar call's
 /// `Some`). A lane without one is all zero.
 #[derive(Debug)]
-pub struct Samples<'a, F> {
+pub struct SampleArrays<'a, F> {
     /// The vertices `x1`.
     pub x1: PointsMut<'a, F>,
     /// Their volume densities (m⁻³), finite.
@@ -85,7 +85,7 @@ pub struct Samples<'a, F> {
     pub valid: &'a mut [bool],
 }
 
-impl<F: Real> Samples<'_, F> {
+impl<F: Real> SampleArrays<'_, F> {
     /// Whether every slice has `n` entries.
     fn has_len(&self, n: usize) -> bool {
         [
@@ -383,7 +383,7 @@ fn is_f32<F: Real>() -> bool {
 /// ```
 /// use omnee_core::phase::HenyeyGreenstein;
 /// use omnee_core::sampling::{
-///     Connection, Connections, Omnee, Points, PointsMut, Samples, Technique, Uniforms,
+///     Connection, Connections, Omnee, Points, PointsMut, SampleArrays, Technique, Uniforms,
 /// };
 /// use glam::Vec3;
 ///
@@ -403,7 +403,7 @@ fn is_f32<F: Real>() -> bool {
 /// let n = connections.sample_omnee(
 ///     &phase,
 ///     Uniforms { u0: &u0, u1: &u1, u2: &u2 },
-///     Samples {
+///     SampleArrays {
 ///         x1: PointsMut { x: &mut x, y: &mut y, z: &mut z },
 ///         pdf: &mut pdf,
 ///         weight: &mut weight,
@@ -508,7 +508,7 @@ impl<'a, F: Real> Connections<'a, F> {
         &self,
         phase: &P,
         u: Uniforms<'_, F>,
-        mut out: Samples<'_, F>,
+        mut out: SampleArrays<'_, F>,
     ) -> Result<usize, Error> {
         self.check(&[u], [&out])?;
         let mut lanes = Lanes::new();
@@ -543,8 +543,8 @@ impl<'a, F: Real> Connections<'a, F> {
         setup: &Setup<F, P>,
         u: Uniforms<'_, F>,
         v: Uniforms<'_, F>,
-        mut omnee: Samples<'_, F>,
-        mut companion: Samples<'_, F>,
+        mut omnee: SampleArrays<'_, F>,
+        mut companion: SampleArrays<'_, F>,
     ) -> Result<usize, Error> {
         self.check(&[u, v], [&omnee, &companion])?;
         // OmneeMis::recommended's rate and the cone's 1 − cos θmin.
@@ -599,7 +599,7 @@ impl<'a, F: Real> Connections<'a, F> {
         incoming: Points<'_, F>,
         phase: P,
         u: Uniforms<'_, F>,
-        mut out: Samples<'_, F>,
+        mut out: SampleArrays<'_, F>,
     ) -> Result<usize, Error> {
         self.check(&[u], [&out])?;
         if incoming.len() != Some(self.len) {
@@ -628,7 +628,7 @@ impl<'a, F: Real> Connections<'a, F> {
     fn check<const N: usize>(
         &self,
         u: &[Uniforms<'_, F>],
-        out: [&Samples<'_, F>; N],
+        out: [&SampleArrays<'_, F>; N],
     ) -> Result<(), Error> {
         let n = self.len;
         let uniforms = u
@@ -653,7 +653,7 @@ impl<'a, F: Real> Connections<'a, F> {
         u: &Uniforms<'_, F>,
         start: usize,
         lanes: &mut Lanes<F>,
-        out: &mut Samples<'_, F>,
+        out: &mut SampleArrays<'_, F>,
     ) -> usize {
         let n = (self.len - start).min(CHUNK);
         let range = start..start + n;
@@ -989,8 +989,8 @@ mod tests {
             }
         }
 
-        fn samples(&mut self) -> Samples<'_, F> {
-            Samples {
+        fn samples(&mut self) -> SampleArrays<'_, F> {
+            SampleArrays {
                 x1: PointsMut {
                     x: &mut self.x,
                     y: &mut self.y,

@@ -34,7 +34,9 @@ mod equiangular;
 mod omnee;
 
 pub use batch::{Uniforms, Vertices};
-pub use connections::{CHUNK, Connections, Deflections, PhaseBatch, Points, PointsMut, Samples};
+pub use connections::{
+    CHUNK, Connections, Deflections, PhaseBatch, Points, PointsMut, SampleArrays,
+};
 pub use directions::Directions;
 pub use distance::Distance;
 pub use draw::Draw;
