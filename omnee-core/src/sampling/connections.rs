@@ -182,12 +182,14 @@ impl<F: Real> PhaseBatch<F> for Phase<'_, F> {
 }
 
 impl<F: Real> PhaseBatch<F> for HenyeyGreenstein<F> {
-    /// In f32 the scalar inverse CDF (`HenyeyGreenstein::sample_pdf`) in
-    /// two loops per [`CHUNK`] lanes: the versine numerators `a`, `b`, the
-    /// versines, the density and everything of `θ = 2 atan2(√a, √b)` but
-    /// its square root (`w = min/max(a, b)`, the polynomial `Q(w)`, the
-    /// octant) branch-free, then `√w` and θ lane by lane. In f64 the
-    /// default, one call per lane (its `atan2` is `libm`'s).
+    /// In f32 the scalar inverse CDF (`HenyeyGreenstein::sample_pdf`) bit
+    /// for bit, per [`CHUNK`] lanes: the versine numerators `a`, `b`, the
+    /// versines and the density four f32 lanes to a register; everything
+    /// of `θ = 2 atan2(√a, √b)` but its square root (`w = min/max(a, b)`,
+    /// the polynomial `Q(w)`, the octant) two f64 lanes to one; then `√w`
+    /// and θ lane by lane, the last two alternating by sixteen lanes so
+    /// that the square roots overlap the polynomials. In f64 the default,
+    /// one call per lane (its `atan2` is `libm`'s).
     fn sample_ratio_batch(&self, u0: &[F], out: Deflections<'_, F>) {
         if !is_f32::<F>() {
             return sample_ratio_each(self, u0, out);
@@ -256,8 +258,8 @@ impl<F: Real> HenyeyGreenstein<F> {
             ratio[i] = F::ONE;
         }
         // θ = 2 atan2(√a, √b) as atan2_sqrt_f32 computes it in f64:
-        // w = min/max(a, b), ±Q(w) and the base 0 or π/2 (its own loop, two
-        // f64 lanes to a register), then √w lane by lane.
+        // w = min/max(a, b), ±Q(w) and the base 0 or π/2 (two f64 lanes to
+        // a register), then √w lane by lane, by turns of GROUP lanes.
         let (mut w, mut signed_q, mut base) = ([0.0f64; CHUNK], [0.0f64; CHUNK], [0.0f64; CHUNK]);
         let (w, signed_q, base) = (&mut w[..n], &mut signed_q[..n], &mut base[..n]);
         let theta = &mut out.theta[..n];
