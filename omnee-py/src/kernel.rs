@@ -290,7 +290,12 @@ impl<'a, F: Real> Context<'a, F> {
     /// Draws for consecutive rows of `uniforms(method)` numbers in `u`
     /// (each in [0, 1], else an error naming it), writing each draw's
     /// vertices to `out` (zeros where a vertex does not exist).
+    /// OMNEE and MIS go through the core's batch over connections
+    /// ([`Context::sample_batched`]), the same draws bit for bit.
     pub fn sample(&self, u: &[F], out: SampleOut<'_, F>) -> Result<(), Bad> {
+        if self.batched() {
+            return self.sample_batched(u, out);
+        }
         with_kernel!(self, make => self.sample_with(&make, u, out))
     }
 

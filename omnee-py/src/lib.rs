@@ -18,6 +18,7 @@
 //! foreign boundary is PyO3's and rust-numpy's.
 
 mod array;
+mod batch;
 mod chunks;
 mod config;
 mod error;

@@ -254,3 +254,23 @@ def test_techniques_travel_to_worker_processes():
         results = pool.map(sample_in_worker, jobs)
     for (t, u), got in zip(jobs, results):
         assert_same(got, t.sample(u))
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_the_core_batch_and_the_scalar_loop_draw_the_same_bits(dtype):
+    """OMNEE and MIS in f32 go through the core's batch over connections,
+    everything else through the scalar calls; MIS with one normal per row
+    (the scalar loop) and with the same normal once (the batch in f32)
+    draw the same bits, as do OMNEE's draws and MIS's first vertex where
+    MIS leaves OMNEE's alone (no companion, in front of the cone)."""
+    x0, x2, _ = ends(14, n=3000)
+    normal = np.array([0.2, -0.1, 1.0])
+    u = np.random.default_rng(15).random((3000, 6)).astype(dtype)
+    batch = omnee.Mis(x0, x2, "hg:0.5", normal=normal).sample(u)
+    scalar = omnee.Mis(x0, x2, "hg:0.5", normal=np.tile(normal, (3000, 1))).sample(u)
+    assert_same(batch, scalar)
+    o = omnee.Omnee(x0, x2, "hg:0.5").sample(u[:, :3])
+    alone = (u[:, 3] >= 0.05) & batch.valid[:, 0] & (batch.weight[:, 0] == o.weight)
+    assert alone.mean() > 0.5
+    np.testing.assert_array_equal(batch.x1[alone, 0], o.x1[alone])
+    np.testing.assert_array_equal(batch.pdf[alone, 0], o.pdf[alone])
