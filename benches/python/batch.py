@@ -168,17 +168,25 @@ def calls(n, dtype, case, k):
         (omnee.Omnee(x0, x2, PHASE) if case == "rows" else one).sample(u)
 
 
+# The core's criterion ids and their directories under target/criterion
+# (criterion writes a group "batch/f32" as batch_f32).
+CORE = {
+    "connections_f32/omnee/hg0.9": "connections_f32/omnee/hg0.9",
+    "batch/f32/omnee/hg0.9": "batch_f32/omnee/hg0.9",
+    "sample/f32/omnee/hg0.9": "sample_f32/omnee/hg0.9",
+    "connection/f32/omnee-hg0.9": "connection_f32/omnee-hg0.9",
+    "sample/f64/omnee/hg0.9": "sample_f64/omnee/hg0.9",
+}
+
+
 def criterion(directory):
-    """ns per sample of the core's `batch/f32/omnee/hg0.9` (one connection,
-    vectorised), `sample/f32/omnee/hg0.9` (the scalar sampler),
-    `connection/f32/omnee-hg0.9` (a connection per sample: `Connection::new`
-    and the scalar sampler) and `sample/f64/omnee/hg0.9` (256 samples per
-    iteration), those that were measured."""
+    """ns per sample of the core's benchmarks in `CORE`, those measured:
+    the batch over connections (one per lane), the one-connection batch,
+    the scalar sampler, a connection made per sample, the f64 scalar
+    sampler (256 samples per iteration each)."""
     found = {}
-    for name in ("batch/f32/omnee/hg0.9", "sample/f32/omnee/hg0.9", "connection/f32/omnee-hg0.9",
-                 "sample/f64/omnee/hg0.9"):
-        group, precision, *bench = name.split("/")  # criterion writes "batch/f32" as batch_f32
-        path = pathlib.Path(directory, f"{group}_{precision}", *bench, "new", "estimates.json")
+    for name, path in CORE.items():
+        path = pathlib.Path(directory, path, "new", "estimates.json")
         if path.is_file():
             found[name] = json.loads(path.read_text())["mean"]["point_estimate"] / 256
     return found
@@ -217,7 +225,7 @@ def main():
     runs = {"1 thread": {(c, n): tuple(v) for c, n, *v in child(["--speed-child", *flags], single)}}
     runs["all cores"] = speed(dtype, a.quick)
     core = criterion(a.criterion)
-    batch = core.get("batch/f32/omnee/hg0.9") if a.dtype == "float32" else None
+    batch = core.get("connections_f32/omnee/hg0.9") if a.dtype == "float32" else None
     scalar = core.get(f"sample/{'f32' if a.dtype == 'float32' else 'f64'}/omnee/hg0.9")
     print("#### ns per sample: wall / CPU of all threads (in parentheses: the system part, page faults, mean over the calls); wall and CPU the least of several calls\n")
     print("| threads | N | one connection | one, into `out=` | per row (made in the call) "

@@ -2,9 +2,10 @@
 //! connection for every item, or one per row (`x0`, `x2` and the receiver
 //! normal of shape `(N, 3)`), each item drawn, evaluated or inverted by the
 //! core's scalar calls ([`CoreTechnique::sample`], [`OmneeMis::sample`],
-//! their `pdf` and `invert`) straight into the output arrays. The
-//! technique of a connection is made once per chunk (one connection) or
-//! once per row.
+//! their `pdf` and `invert`) straight into the output arrays, OMNEE's and
+//! MIS's draws in f32 by the core's batch over connections (module
+//! `batch`), the same bits. The technique of a connection is made once per
+//! chunk (one connection) or once per row.
 
 use crate::array::{Bad, first_non_finite, first_outside, number, vec3};
 use crate::chunks::{Items, run};
