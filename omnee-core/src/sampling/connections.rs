@@ -134,7 +134,7 @@ pub struct Deflections<'a, F> {
 /// A phase function that draws the deflections of a whole batch:
 /// [`PhaseFunction::sample_ratio`] lane by lane, bit for bit. The default
 /// calls it once per lane; Henyey–Greenstein in f32 (alone or in a
-/// [`Phase`]) overrides it with its inverse CDF vectorised.
+/// [`Phase`](crate::phase::Phase)) overrides it with its inverse CDF vectorised.
 ///
 /// Every phase function of the core implements it; a phase function of
 /// your own needs only `impl PhaseBatch<F> for Mine {}`.
