@@ -19,8 +19,8 @@ use crate::lobe::{LobeMis, PhaseLobe, Restricted};
 use crate::method::Setup;
 use crate::mis::OmneeMis;
 use crate::phase::{
-    Draine, FournierForand, HenyeyGreenstein, Isotropic, Mie, Mixture, Phase, PhaseFunction,
-    Rayleigh, TableSampled, Tabulated,
+    AnyPhase, Draine, FournierForand, HenyeyGreenstein, Isotropic, Mie, Mixture, NoTable,
+    PhaseFunction, Rayleigh, TableSampled, Tabulated, dispatch,
 };
 use crate::real::{ATAN_SQRT, Real, Vector, sin_cos_acute_f64, sinc_is_series, sinc_series};
 
@@ -134,7 +134,7 @@ pub struct Deflections<'a, F> {
 /// A phase function that draws the deflections of a whole batch:
 /// [`PhaseFunction::sample_ratio`] lane by lane, bit for bit. The default
 /// calls it once per lane; Henyey–Greenstein in f32 (alone or in a
-/// [`Phase`]) overrides it with its inverse CDF vectorised.
+/// [`Phase`](crate::phase::Phase)) overrides it with its inverse CDF vectorised.
 ///
 /// Every phase function of the core implements it; a phase function of
 /// your own needs only `impl PhaseBatch<F> for Mine {}`.
@@ -163,21 +163,14 @@ impl<F: Real, P: PhaseBatch<F> + ?Sized> PhaseBatch<F> for &P {
     }
 }
 
-impl<F: Real> PhaseBatch<F> for Phase<'_, F> {
-    /// Henyey–Greenstein's vectorised draw for that variant, one call per
-    /// lane for the others.
+impl<F: Real> PhaseBatch<F> for NoTable {}
+
+impl<F: Real, T: PhaseBatch<F>> PhaseBatch<F> for AnyPhase<F, T> {
+    /// The variant's own: Henyey–Greenstein's vectorised draw for that
+    /// variant, one call per lane for the others.
     #[inline]
     fn sample_ratio_batch(&self, u0: &[F], out: Deflections<'_, F>) {
-        match self {
-            Phase::HenyeyGreenstein(hg) => hg.sample_ratio_batch(u0, out),
-            Phase::Isotropic(p) => p.sample_ratio_batch(u0, out),
-            Phase::TwoTermHg(p) => p.sample_ratio_batch(u0, out),
-            Phase::FournierForand(p) => p.sample_ratio_batch(u0, out),
-            Phase::Draine(p) => p.sample_ratio_batch(u0, out),
-            Phase::Mie(p) => p.sample_ratio_batch(u0, out),
-            Phase::Rayleigh(p) => p.sample_ratio_batch(u0, out),
-            Phase::Tabulated(p) => p.sample_ratio_batch(u0, out),
-        }
+        dispatch!(self, p => p.sample_ratio_batch(u0, out))
     }
 }
 
