@@ -12,6 +12,7 @@
 
 mod bridge;
 mod chi2;
+mod connections;
 mod harness;
 mod lobe;
 mod properties;
