@@ -156,7 +156,10 @@ impl<F: Real> Axis<F> {
             return Err(Error::NotFinite { field: "x2 - x0" });
         }
         let unit = Unit::of(s);
-        let (d_unit, s_unit) = (d * unit.inverse, s * unit.inverse);
+        // s/L from (x2 − x0)/L itself: for a subnormal s, whose rounding
+        // lost bits, d/L still has them all.
+        let d_unit = d * unit.inverse;
+        let s_unit = d_unit.length();
         let e = d_unit * (F::ONE / s_unit);
         let (b1, b2) = e.orthonormal_pair();
         Ok(Self {

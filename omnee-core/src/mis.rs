@@ -7,7 +7,7 @@
 
 use crate::phase::{Deflection, PhaseFunction};
 use crate::real::Real;
-use crate::sampling::{Draw, Omnee, Sample, Technique, Unit, Vertex, saturate};
+use crate::sampling::{Draw, Omnee, Sample, Technique, Vertex, saturate};
 
 /// The MIS heuristic.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -290,10 +290,9 @@ impl<'a, F: Real, P: PhaseFunction<F>> OmneeMis<'a, F, P> {
         let companion = if u[3] < self.rate {
             let u3 = (u[3] / self.rate).clamp_to(F::ZERO, F::ONE_MINUS_EPSILON);
             self.companion
-                .sample_vertex([u3, u[4], u[5]], &self.omnee.connection)
-                .filter(|(_, v)| self.behind(v))
-                .map(|(s, v)| {
-                    let own = own_unit(self.companion, &s, &v, unit);
+                .sample_vertex_unit([u3, u[4], u[5]], &self.omnee.connection, unit)
+                .filter(|(_, v, _)| self.behind(v))
+                .map(|(s, v, own)| {
                     self.combine(s, own, self.omnee.pdf_vertex_unit(&v, unit), self.rate)
                 })
         } else {
@@ -358,23 +357,5 @@ impl<'a, F: Real, P: PhaseFunction<F>> OmneeMis<'a, F, P> {
         } else {
             self.omnee.pdf_vertex(v)
         }
-    }
-}
-
-/// A technique's own density per `L³` at a vertex it sampled: its sample's
-/// pdf in the unit where that is a normal number (exact), else evaluated in
-/// the unit ([`Technique::pdf_vertex_unit`]) where the volume density
-/// under- or overflowed.
-#[inline]
-pub(crate) fn own_unit<F: Real, T: Technique<F> + ?Sized>(
-    technique: &T,
-    s: &Sample<F>,
-    v: &Vertex<F>,
-    unit: &Unit<F>,
-) -> F {
-    if s.pdf >= F::MIN_POSITIVE && s.pdf < F::MAX {
-        unit.density_to_unit(s.pdf)
-    } else {
-        technique.pdf_vertex_unit(v, unit)
     }
 }

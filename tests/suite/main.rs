@@ -14,6 +14,8 @@ mod chi2;
 mod harness;
 mod lobe;
 mod properties;
+mod references;
+mod scale;
 mod stability;
 mod tables;
 mod unbiased;

@@ -3,7 +3,7 @@
 
 use super::{Lobe, LobeRay, Restricted, WithLobe};
 use crate::error::{Error, check_closed};
-use crate::mis::{Heuristic, own_unit};
+use crate::mis::Heuristic;
 use crate::real::Real;
 use crate::sampling::{Connection, Omnee, Sample, Technique, Vertex, saturate};
 
@@ -106,16 +106,17 @@ impl<F: Real, L: Lobe<F> + Copy, P: Restricted<F> + Copy> Technique<F> for LobeM
         let u0 = u[0].clamp_to(F::ZERO, F::ONE);
         let (s, own, other) = if u0 < c {
             let v = (u0 / c).min(F::ONE_MINUS_EPSILON);
-            let s = self.ray.sample([v, u[1], u[2]])?;
-            let vertex = Vertex::at(connection, s.x1);
-            let own = c * own_unit(&self.ray, &s, &vertex, unit);
+            let (s, vertex, own) =
+                self.ray
+                    .sample_vertex_unit([v, u[1], u[2]], connection, unit)?;
             let other = (F::ONE - c) * self.omnee.pdf_vertex_unit(&vertex, unit);
-            (s, own, other)
+            (s, c * own, other)
         } else {
             let v = ((u0 - c) / (F::ONE - c)).clamp_to(F::ZERO, F::ONE_MINUS_EPSILON);
-            let s = self.omnee.sample([v, u[1], u[2]])?;
-            let vertex = Vertex::at(connection, s.x1);
-            let own = (F::ONE - c) * own_unit(&self.omnee, &s, &vertex, unit);
+            let (s, vertex, own) =
+                self.omnee
+                    .sample_vertex_unit([v, u[1], u[2]], connection, unit)?;
+            let own = (F::ONE - c) * own;
             let other = if c > F::ZERO {
                 c * self.ray.pdf_vertex_unit(&vertex, unit)
             } else {

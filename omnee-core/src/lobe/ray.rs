@@ -5,7 +5,7 @@ use super::{Lobe, Restricted};
 use crate::circumcircle::Triangle;
 use crate::phase::Deflection;
 use crate::real::{Real, Vector};
-use crate::sampling::{Connection, Sample, Technique, Unit, Vertex, saturate};
+use crate::sampling::{Connection, Sample, Technique, Unit, Vertex, in_unit, saturate};
 
 /// Sampling `x1` through the lobe at `x0`.
 ///
@@ -119,13 +119,10 @@ fn beta<F: Real>(alpha: Deflection<F>, theta: Deflection<F>) -> F {
     beta.max(F::ZERO)
 }
 
-impl<F: Real, L: Lobe<F>, P: Restricted<F>> Technique<F> for LobeRay<F, L, P> {
-    /// ω from `(u0, u1)` by the lobe, θ from `u2` by `p1` restricted to
-    /// `[α, θmax)`, `β = θ − α`, `x1 = x0 + d1 ω` with `d1` from
-    /// [`Triangle::solve`]; weight `(eval/pdf_ω) M / (2π s sin α sin θ)`.
-    /// `None` for a ray along the axis (sin α = 0), an empty restriction
-    /// (`M = 0`) or `x1` on an end point.
-    fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
+impl<F: Real, L: Lobe<F>, P: Restricted<F>> LobeRay<F, L, P> {
+    /// [`Technique::sample`] with its density per `L³` of the connection's
+    /// unit (not saturated).
+    fn sample_unit(&self, u: [F; 3]) -> Option<(Sample<F>, F)> {
         let axis = &self.connection.axis;
         let dir = self.lobe.sample([u[0], u[1]])?;
         let alpha = Deflection::between(axis.e, dir.omega);
@@ -154,11 +151,36 @@ impl<F: Real, L: Lobe<F>, P: Restricted<F>> Technique<F> for LobeRay<F, L, P> {
         }
         let sines = F::TAU * axis.s_unit * alpha.sin() * theta.sin();
         let density = self.density_unit(dir.pdf, theta, alpha, mass, d1, d2);
-        Some(Sample {
+        let sample = Sample {
             x1,
             pdf: saturate(axis.unit.density_from_unit(density)),
             weight: saturate(dir.value / dir.pdf * mass / sines * axis.unit.inverse),
-        })
+        };
+        Some((sample, density))
+    }
+}
+
+impl<F: Real, L: Lobe<F>, P: Restricted<F>> Technique<F> for LobeRay<F, L, P> {
+    /// ω from `(u0, u1)` by the lobe, θ from `u2` by `p1` restricted to
+    /// `[α, θmax)`, `β = θ − α`, `x1 = x0 + d1 ω` with `d1` from
+    /// [`Triangle::solve`] in the connection's unit; weight
+    /// `(eval/pdf_ω) M / (2π s sin α sin θ)`. `None` for a ray along the
+    /// axis (sin α = 0), an empty restriction (`M = 0`) or `x1` on an end
+    /// point.
+    fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
+        self.sample_unit(u).map(|(s, _)| s)
+    }
+
+    /// The sample with the density per `L³` it was drawn with.
+    fn sample_vertex_unit(
+        &self,
+        u: [F; 3],
+        c: &Connection<F>,
+        unit: &Unit<F>,
+    ) -> Option<(Sample<F>, Vertex<F>, F)> {
+        let (s, density) = self.sample_unit(u)?;
+        let own = &self.connection.axis.unit;
+        Some((s, Vertex::at(c, s.x1), in_unit(density, own, unit)))
     }
 
     /// `pdf_ω(ω) · 2π p1(θ) sin θ · s sin α / (M d1² d2²)` with ω, α from
@@ -176,8 +198,7 @@ impl<F: Real, L: Lobe<F>, P: Restricted<F>> Technique<F> for LobeRay<F, L, P> {
     /// The density per `L³` of `unit` at the vertex's point, computed in
     /// the connection's own unit.
     fn pdf_vertex_unit(&self, v: &Vertex<F>, unit: &Unit<F>) -> F {
-        let shift = unit.exponent - self.connection.axis.unit.exponent;
-        saturate(self.pdf_own_unit(v.x1).scale_pow2(3 * shift))
+        in_unit(self.pdf_own_unit(v.x1), &self.connection.axis.unit, unit)
     }
 
     /// The lobe's `(u0, u1)` for ω and `u2 = (P1(θ) − P1(α))/M`; `None`

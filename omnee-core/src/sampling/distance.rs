@@ -1,7 +1,7 @@
 //! Distance sampling: exponential free flight along a ray from the receiver,
 //! truncated to the medium segment.
 
-use super::{Connection, Directions, Sample, Technique, Unit, Vertex, saturate};
+use super::{Connection, Directions, Sample, Technique, Unit, Vertex, in_unit, saturate};
 use crate::error::{Error, check_closed};
 use crate::medium::Region;
 use crate::phase::PhaseFunction;
@@ -124,11 +124,10 @@ impl<F: Real, P: PhaseFunction<F>> Distance<F, P> {
     }
 }
 
-impl<F: Real, P: PhaseFunction<F>> Technique<F> for Distance<F, P> {
-    /// ω from `(u0, u1)`, `t = t_a − ln_1p(−u2 (1 − e^{−σL})) / σ`; each `u`
-    /// clamped to [0, 1] (NaN to 0). Lengths in the connection's unit, σ per
-    /// unit (docs/math.md §14).
-    fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
+impl<F: Real, P: PhaseFunction<F>> Distance<F, P> {
+    /// [`Technique::sample`] with the density per `L³` of the connection's
+    /// unit (not saturated).
+    fn sample_unit(&self, u: [F; 3]) -> Option<(Sample<F>, F)> {
         let axis = &self.connection.axis;
         let unit = &axis.unit;
         let omega = self.directions.sample([u[0], u[1]]);
@@ -152,6 +151,9 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Distance<F, P> {
             return None;
         }
         let x1 = axis.x2 + omega * t_metres;
+        if !x1.is_finite() {
+            return None; // beyond the largest number
+        }
         let pdf_t = density(sigma, x, length);
         let (d, d1) = self.connection.deflection_along_unit(omega, t)?;
         let weight = if d.theta < self.connection.theta_max {
@@ -159,28 +161,49 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Distance<F, P> {
         } else {
             F::ZERO
         };
-        Some(Sample {
+        let density = pdf_omega * pdf_t / (t * t);
+        let sample = Sample {
             x1,
-            pdf: saturate(unit.density_from_unit(pdf_omega * pdf_t / (t * t))),
+            pdf: saturate(unit.density_from_unit(density)),
             weight,
-        })
+        };
+        Some((sample, density))
+    }
+}
+
+impl<F: Real, P: PhaseFunction<F>> Technique<F> for Distance<F, P> {
+    /// ω from `(u0, u1)`, `t = t_a − ln_1p(−u2 (1 − e^{−σL})) / σ`; each `u`
+    /// clamped to [0, 1] (NaN to 0). Lengths in the connection's unit, σ per
+    /// unit (docs/math.md §14).
+    fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
+        self.sample_unit(u).map(|(s, _)| s)
     }
 
     /// [`sample`](Technique::sample) with `x1 − x2 = t ω` and
     /// `x1 − x0 = (x2 − x0) + t ω` as placed.
-    fn sample_vertex(&self, u: [F; 3], _: &Connection<F>) -> Option<(Sample<F>, Vertex<F>)> {
-        let s = self.sample(u)?;
+    fn sample_vertex(&self, u: [F; 3], c: &Connection<F>) -> Option<(Sample<F>, Vertex<F>)> {
+        let unit = self.connection.axis.unit;
+        self.sample_vertex_unit(u, c, &unit).map(|(s, v, _)| (s, v))
+    }
+
+    /// [`sample_vertex`](Technique::sample_vertex) with the density per `L³`
+    /// it was drawn with.
+    fn sample_vertex_unit(
+        &self,
+        u: [F; 3],
+        _: &Connection<F>,
+        unit: &Unit<F>,
+    ) -> Option<(Sample<F>, Vertex<F>, F)> {
+        let (s, density) = self.sample_unit(u)?;
         let axis = &self.connection.axis;
         let from_x2 = s.x1 - axis.x2; // t ω, exact up to one rounding of x1
         let from_x0 = (axis.x2 - axis.x0) + from_x2;
-        Some((
-            s,
-            Vertex {
-                x1: s.x1,
-                from_x0,
-                from_x2,
-            },
-        ))
+        let vertex = Vertex {
+            x1: s.x1,
+            from_x0,
+            from_x2,
+        };
+        Some((s, vertex, in_unit(density, &axis.unit, unit)))
     }
 
     /// `pdf_ω(ω) pdf(t) / t²` inside the medium segment, else 0.
@@ -200,8 +223,7 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Distance<F, P> {
     /// unit and converted by the power of two between them.
     fn pdf_vertex_unit(&self, v: &Vertex<F>, unit: &Unit<F>) -> F {
         let own = &self.connection.axis.unit;
-        let density = self.density_from_x2(v.from_x2 * own.inverse);
-        saturate(density.scale_pow2(3 * (unit.exponent - own.exponent)))
+        in_unit(self.density_from_x2(v.from_x2 * own.inverse), own, unit)
     }
 
     /// `(u0, u1)` from the direction, `u2 = (1 − e^{−σ(t − t_a)}) / (1 − e^{−σL})`.

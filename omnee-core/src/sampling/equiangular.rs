@@ -1,7 +1,7 @@
 //! Equiangular sampling (Kulla & Fajardo 2012) along a ray from the receiver:
 //! the baseline OMNEE is measured against.
 
-use super::{Connection, Directions, Sample, Technique, Unit, Vertex, saturate};
+use super::{Connection, Directions, Sample, Technique, Unit, Vertex, in_unit, saturate};
 use crate::medium::Region;
 use crate::phase::{Deflection, PhaseFunction};
 use crate::real::{Real, Vector};
@@ -180,7 +180,7 @@ impl<F: Real, P: PhaseFunction<F>> Equiangular<F, P> {
     }
 
     /// The sample of [`Technique::sample`] with the vertex's offsets and
-    /// its density per `L³`.
+    /// its density per `L³` (not saturated).
     fn sample_with_offsets(&self, u: [F; 3]) -> Option<(Sample<F>, Vertex<F>, F)> {
         let axis = &self.connection.axis;
         let unit = &axis.unit;
@@ -196,6 +196,9 @@ impl<F: Real, P: PhaseFunction<F>> Equiangular<F, P> {
             return None;
         }
         let x1 = axis.x2 + omega * t_metres;
+        if !x1.is_finite() {
+            return None; // beyond the largest number
+        }
         // x1 − x0 = v ω − (x0 − foot), the perpendicular x0 − foot being
         // ω × ((x0 − x2) × ω): no cancellation next to the light.
         let from_x0 = omega * v - omega.cross(line.cross);
@@ -221,7 +224,7 @@ impl<F: Real, P: PhaseFunction<F>> Equiangular<F, P> {
             from_x0: from_x0 * unit.length,
             from_x2: omega * t_metres,
         };
-        Some((sample, vertex, saturate(density)))
+        Some((sample, vertex, density))
     }
 
     /// `pdf_ω(ω) · c / (d1² d2²)` per `L³` at `x1 = x2 + to_x1` with
@@ -318,8 +321,22 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Equiangular<F, P> {
     /// The density per `L³` of `unit`, computed in the connection's own
     /// unit and converted by the power of two between them.
     fn pdf_vertex_unit(&self, v: &Vertex<F>, unit: &Unit<F>) -> F {
-        let shift = unit.exponent - self.connection.axis.unit.exponent;
-        saturate(self.pdf_vertex_own_unit(v).scale_pow2(3 * shift))
+        in_unit(
+            self.pdf_vertex_own_unit(v),
+            &self.connection.axis.unit,
+            unit,
+        )
+    }
+
+    /// The vertex as computed with the density per `L³` it was drawn with.
+    fn sample_vertex_unit(
+        &self,
+        u: [F; 3],
+        _: &Connection<F>,
+        unit: &Unit<F>,
+    ) -> Option<(Sample<F>, Vertex<F>, F)> {
+        let (s, v, density) = self.sample_with_offsets(u)?;
+        Some((s, v, in_unit(density, &self.connection.axis.unit, unit)))
     }
 
     /// `(u0, u1)` from the direction, `u2` from the equiangular angle.

@@ -1,7 +1,7 @@
 //! Once-more scattered NEE: the deflection first, then the circumcircle arc
 //! (docs/math.md §3).
 
-use super::{Connection, Sample, Technique, Vertex, saturate};
+use super::{Connection, Sample, Technique, Unit, Vertex, in_unit, saturate};
 use crate::circumcircle::Triangle;
 use crate::phase::{Deflection, PhaseFunction};
 use crate::real::{Real, Vector, sinc_with_sin};
@@ -88,10 +88,7 @@ impl<F: Real, P: PhaseFunction<F>> Omnee<F, P> {
     /// where the browser demo's module is 850 B smaller with the plain hint.
     #[cfg_attr(not(target_arch = "wasm32"), inline(always))]
     #[cfg_attr(target_arch = "wasm32", inline)]
-    pub(crate) fn sample_unit(
-        &self,
-        u: [F; 3],
-    ) -> Option<UnitDraw<F>> {
+    pub(crate) fn sample_unit(&self, u: [F; 3]) -> Option<UnitDraw<F>> {
         let axis = &self.connection.axis;
         let (d, phase_pdf, ratio) = self.phase.sample_ratio(u[0]);
         if !(d.theta < self.connection.theta_max) {
@@ -181,10 +178,24 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Omnee<F, P> {
     /// The density per `L³` of the given unit, computed in OMNEE's own
     /// connection's unit and converted by the power of two between them.
     #[inline]
-    fn pdf_vertex_unit(&self, v: &Vertex<F>, unit: &super::Unit<F>) -> F {
-        let own = self.pdf_vertex_own_unit(v);
-        let shift = unit.exponent - self.connection.axis.unit.exponent;
-        saturate(own.scale_pow2(3 * shift))
+    fn pdf_vertex_unit(&self, v: &Vertex<F>, unit: &Unit<F>) -> F {
+        in_unit(
+            self.pdf_vertex_own_unit(v),
+            &self.connection.axis.unit,
+            unit,
+        )
+    }
+
+    /// The vertex as placed with the density per `L³` it was drawn with.
+    #[inline]
+    fn sample_vertex_unit(
+        &self,
+        u: [F; 3],
+        _: &Connection<F>,
+        unit: &Unit<F>,
+    ) -> Option<(Sample<F>, Vertex<F>, F)> {
+        let (s, v, _, density) = self.sample_unit(u)?;
+        Some((s, v, in_unit(density, &self.connection.axis.unit, unit)))
     }
     /// `(cdf(θ), β/θ, φ/2π)`; `None` for θ ≥ θmax or a phase function whose
     /// sampler is not invertible (mixtures).
