@@ -116,7 +116,8 @@ fn f_c_of<F: Precision>(
 }
 
 /// One estimate of the problem's integral from a sample of any technique:
-/// f_c(x1) · weight (0 for weight 0).
+/// f_c(x1) · weight (0 for weight 0), rounded to the precision (0 where the
+/// product underflows: see SCALE above).
 #[unsafe(no_mangle)]
 pub extern "C" fn omnee_problem_estimate_f32(
     problem: Option<&omnee_problem_f32>,

@@ -47,7 +47,8 @@ pub struct omnee_sample<F> {
     /// The vertex x1.
     pub x1: omnee_vec3<F>,
     /// Its density in the volume measure (1/m³), finite, saturating at the
-    /// precision's largest number.
+    /// precision's largest number (and 0 where it underflows, e.g. s > 1e13
+    /// in f32).
     pub pdf: F,
     /// The estimator k(x1)/pdf(x1) without f_c (1/m), finite and ≥ 0;
     /// multiply by f_c (`omnee_problem_f_c_*`) for one estimate.
@@ -125,8 +126,10 @@ pub const OMNEE_REGION_SLAB: u32 = 1;
 pub struct omnee_rays<F> {
     /// `OMNEE_DIRECTIONS_SPHERE` or `OMNEE_DIRECTIONS_COSINE`.
     pub directions: u32,
-    /// The cosine's normal at x2 (finite, non-zero, normalised by the
-    /// library); ignored for the sphere.
+    /// The cosine's normal at x2, normalised by the library: any finite,
+    /// non-zero length (`OMNEE_ERROR_NOT_FINITE` for a NaN or infinite
+    /// component, `OMNEE_ERROR_DEGENERATE` for zero); ignored for the
+    /// sphere.
     pub normal: omnee_vec3<F>,
     /// `OMNEE_REGION_EVERYWHERE` or `OMNEE_REGION_SLAB`.
     pub region: u32,
