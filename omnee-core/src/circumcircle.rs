@@ -40,21 +40,27 @@ pub struct Axis<F: Real> {
     /// The power of two `L` near `s` in which lengths are measured where
     /// their squares or products could leave the range (docs/math.md §14).
     pub unit: Unit<F>,
-    /// `s/L`, in `[1, 2)` (down to 2⁻²³ in f32, 2⁻⁵² in f64 for a
-    /// subnormal `s`, up to 4 for `s ≥ 2^MAX_EXPONENT`), exact.
+    /// `s/L`, exact: `s` itself inside the [`Unit`]'s band, else in
+    /// `[1, 2)` (down to 2⁻²³ in f32, 2⁻⁵² in f64 for a subnormal `s`, up to
+    /// 4 for `s ≥ 2^MAX_EXPONENT`).
     pub s_unit: F,
 }
 
-/// The length unit of a connection: the power of two `L = 2ᵏ` with
-/// `2ᵏ ≤ s < 2ᵏ⁺¹`, `k` clamped to `[MIN_EXPONENT, MAX_EXPONENT − 1]` so
-/// that `L` and `1/L` are normal numbers (docs/math.md §14).
+/// The length unit of a connection: the power of two `L = 2ᵏ` in which
+/// lengths are measured where their squares, products or inverses could
+/// leave the range (docs/math.md §14).
 ///
-/// Lengths divided by `L` are of order one, so their squares, products and
-/// inverses stay far inside the range at any `s` from the smallest
-/// subnormal to `F::MAX`; a density `q` computed in the unit (per `L³`) is
-/// `q L⁻³` in the volume measure. Multiplying by `L` or `1/L` is exact
-/// (a power of two), so at ordinary scales every result is bit for bit the
-/// one computed in metres.
+/// `L = 1` for `2⁻ᵇ ≤ s < 2ᵇ⁺¹` with `b = MAX_EXPONENT/16` (7 in f32,
+/// 63 in f64: s from 0.008 to 256 m in f32), where lengths of order `s`,
+/// their squares and the products of four of them stay far inside the
+/// range, so that at ordinary scales the core computes in metres and
+/// skips every scaling. Outside that band `2ᵏ ≤ s < 2ᵏ⁺¹`, `k` clamped to
+/// `[MIN_EXPONENT, MAX_EXPONENT − 1]` so that `L` and `1/L` are normal
+/// numbers: lengths divided by `L` are of order one at any `s` from the
+/// smallest subnormal to `F::MAX`, and a density `q` computed in the unit
+/// (per `L³`) is `q L⁻³` in the volume measure. Multiplying by `L` or `1/L`
+/// is exact (a power of two), so scaling a problem by a power of two scales
+/// every result exactly.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Unit<F> {
     /// `k`, with `L = 2ᵏ`.
@@ -67,12 +73,18 @@ pub struct Unit<F> {
 
 impl<F: Real> Unit<F> {
     /// The unit of a connection of length `s` (finite, > 0; any other `s`
-    /// gives the unit 1): `k = ⌊log₂ s⌋` clamped to
-    /// `[MIN_EXPONENT, MAX_EXPONENT − 1]`.
+    /// gives the unit 1): 1 inside the band `|⌊log₂ s⌋| ≤ MAX_EXPONENT/16`,
+    /// else `k = ⌊log₂ s⌋` clamped to `[MIN_EXPONENT, MAX_EXPONENT − 1]`.
     #[inline]
     pub fn of(s: F) -> Self {
+        let band = F::MAX_EXPONENT / 16;
         let k = if s > F::ZERO && s.is_finite() {
-            s.exponent().clamp(F::MIN_EXPONENT, F::MAX_EXPONENT - 1)
+            let k = s.exponent();
+            if (-band..=band).contains(&k) {
+                0
+            } else {
+                k.clamp(F::MIN_EXPONENT, F::MAX_EXPONENT - 1)
+            }
         } else {
             0
         };
@@ -83,12 +95,27 @@ impl<F: Real> Unit<F> {
         }
     }
 
+    /// A length `x` in the unit in metres, `x L` (no multiplication for
+    /// `L = 1`, the common case: the samplers' latency counts).
+    #[inline(always)]
+    pub fn to_metres(&self, x: F) -> F {
+        if self.exponent == 0 {
+            x
+        } else {
+            x * self.length
+        }
+    }
+
     /// A volume density `q` per `L³` in the volume measure, `q L⁻³`
     /// (rounded once where it leaves the normal range, 0 below it, ∞
     /// above).
-    #[inline]
+    #[inline(always)]
     pub fn density_from_unit(&self, q: F) -> F {
-        q.scale_pow2(-3 * self.exponent)
+        if self.exponent == 0 {
+            q
+        } else {
+            q.scale_pow2(-3 * self.exponent)
+        }
     }
 
     /// A volume density `p` (m⁻³) per `L³`, `p L³`.
@@ -194,7 +221,7 @@ impl<F: Real> Axis<F> {
     /// (`x1` at infinity), a point beyond `F::MAX`, or non-finite input.
     #[inline]
     pub fn point(&self, angles: Angles<F>) -> Option<F::Vec3> {
-        let triangle = Triangle::from_angles(self.s_unit, angles)?.scaled(self.unit.length);
+        let triangle = Triangle::from_angles(self.s_unit, angles)?.in_metres(&self.unit);
         self.place(&triangle, angles.phi)
     }
 
@@ -283,14 +310,13 @@ pub struct Triangle<F> {
 }
 
 impl<F: Real> Triangle<F> {
-    /// The triangle with both sides multiplied by `factor` (its angles
-    /// unchanged): a triangle solved in a connection's [`Unit`] in metres
-    /// with `factor = L`.
+    /// A triangle solved in a connection's [`Unit`], its sides in metres
+    /// (`d L`; its angles unchanged).
     #[inline(always)]
-    pub fn scaled(self, factor: F) -> Self {
+    pub fn in_metres(self, unit: &Unit<F>) -> Self {
         Self {
-            d1: self.d1 * factor,
-            d2: self.d2 * factor,
+            d1: unit.to_metres(self.d1),
+            d2: unit.to_metres(self.d2),
             ..self
         }
     }
@@ -386,7 +412,7 @@ impl<F: Real> Triangle<F> {
 #[inline]
 pub fn side_lengths<F: Real>(s: F, angles: Angles<F>) -> Option<(F, F)> {
     let unit = Unit::of(s);
-    let t = Triangle::from_angles(s * unit.inverse, angles)?.scaled(unit.length);
+    let t = Triangle::from_angles(s * unit.inverse, angles)?.in_metres(&unit);
     (t.d1.is_finite() && t.d2.is_finite()).then_some((t.d1, t.d2))
 }
 

@@ -7,7 +7,7 @@
 
 use crate::phase::{Deflection, PhaseFunction};
 use crate::real::Real;
-use crate::sampling::{Draw, Omnee, Sample, Technique, Vertex, saturate};
+use crate::sampling::{Draw, Omnee, Sample, Technique, Vertex, density_of, saturate};
 
 /// The MIS heuristic.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -290,9 +290,11 @@ impl<'a, F: Real, P: PhaseFunction<F>> OmneeMis<'a, F, P> {
         let companion = if u[3] < self.rate {
             let u3 = (u[3] / self.rate).clamp_to(F::ZERO, F::ONE_MINUS_EPSILON);
             self.companion
-                .sample_vertex_unit([u3, u[4], u[5]], &self.omnee.connection, unit)
-                .filter(|(_, v, _)| self.behind(v))
-                .map(|(s, v, own)| {
+                .sample_vertex([u3, u[4], u[5]], &self.omnee.connection)
+                .filter(|(_, v)| self.behind(v))
+                .map(|(s, v)| {
+                    let companion = |v: &Vertex<F>| self.companion.pdf_vertex_unit(v, unit);
+                    let own = density_of(&s, &v, unit, &companion);
                     self.combine(s, own, self.omnee.pdf_vertex_unit(&v, unit), self.rate)
                 })
         } else {

@@ -288,16 +288,17 @@ fn pieces_dyn(
     let mut panels = [(0.0, 0.0); MAX_PANELS];
     let mut count = 0;
     for &(a, b, towards) in pieces {
-        if count < MAX_PANELS && b > a {
-            count += split(a, b, towards, levels, &mut panels[count..]);
+        if let Some(room) = panels.get_mut(count..).filter(|r| !r.is_empty() && b > a) {
+            count += split(a, b, towards, levels, room);
         }
     }
-    let coarse: f64 = panels[..count]
+    let panels = panels.get(..count).unwrap_or(&[]);
+    let coarse: f64 = panels
         .iter()
         .map(|&(lo, hi)| gauss_kronrod(f, lo, hi, budget).0.abs())
         .sum();
     let abs_tol = rel_tol * coarse / count.max(1) as f64;
-    panels[..count]
+    panels
         .iter()
         .map(|&(lo, hi)| integrate_dyn(f, lo, hi, rel_tol, abs_tol, budget))
         .sum()

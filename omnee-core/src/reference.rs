@@ -139,14 +139,6 @@ impl<F: Real> PointToPoint<F> {
             n.cross(to_light).length().atan2(n.dot(to_light))
         });
         let kinks = gamma.map_or([f64::NAN; 4], clipping_kinks);
-        // The kinks in the cuts: those inside (0, π).
-        let cut_kinks = kinks.map(|b| {
-            if b > 0.0 && b < core::f64::consts::PI {
-                b
-            } else {
-                f64::NAN
-            }
-        });
         let tol = 1e-11;
         let normal = gamma.map(libm::sincos);
         let inner = |theta: f64| {
@@ -206,25 +198,14 @@ impl<F: Real> PointToPoint<F> {
             // Pieces between the kinks r = β_k/θ inside (0, 1) and, in a
             // thick medium, ½ between the two boundary layers, which the
             // pieces at the ends resolve with geometric panels.
-            let mut cuts = [0.0, 1.0, f64::NAN, f64::NAN, f64::NAN, f64::NAN, f64::NAN];
-            for (cut, beta) in cuts[2..6].iter_mut().zip(cut_kinks) {
-                if beta > 0.0 && beta < theta {
-                    *cut = beta / theta;
-                }
-            }
-            if levels > 0 {
-                cuts[6] = 0.5;
-            }
-            let (pieces, n) = pieces_between(&mut cuts, |lo, hi| {
-                if levels > 0 && lo == 0.0 {
-                    Towards::Start
-                } else if levels > 0 && hi == 1.0 {
-                    Towards::End
-                } else {
-                    Towards::Neither
-                }
-            });
-            budget.integrate_pieces(over_r, &pieces[..n], levels, tol)
+            let [k0, k1, k2, k3] = kink_r;
+            let (half, ends) = if levels > 0 {
+                (0.5, (Towards::Start, Towards::End))
+            } else {
+                (f64::NAN, (Towards::Neither, Towards::Neither))
+            };
+            let (pieces, n) = pieces_between(0.0, 1.0, [k0, k1, k2, k3, half], ends);
+            budget.integrate_pieces(over_r, pieces.get(..n).unwrap_or(&[]), levels, tol)
         };
         let outer = |theta: f64| {
             if theta <= 0.0 {
@@ -234,28 +215,10 @@ impl<F: Real> PointToPoint<F> {
         };
         // θ from 0 with geometric panels towards the forward peak, split at
         // the kinks θ = β_k inside (0, θmax).
-        let mut cuts = [
-            0.0,
-            theta_max,
-            f64::NAN,
-            f64::NAN,
-            f64::NAN,
-            f64::NAN,
-            f64::NAN,
-        ];
-        for (cut, beta) in cuts[2..6].iter_mut().zip(cut_kinks) {
-            if beta > 0.0 && beta < theta_max {
-                *cut = beta;
-            }
-        }
-        let (pieces, n) = pieces_between(&mut cuts, |lo, _| {
-            if lo == 0.0 {
-                Towards::Start
-            } else {
-                Towards::Neither
-            }
-        });
-        sigma_s / s * budget.integrate_pieces(outer, &pieces[..n], 40, tol)
+        let [k0, k1, k2, k3] = kinks;
+        let ends = (Towards::Start, Towards::Neither);
+        let (pieces, n) = pieces_between(0.0, theta_max, [k0, k1, k2, k3, f64::NAN], ends);
+        sigma_s / s * budget.integrate_pieces(outer, pieces.get(..n).unwrap_or(&[]), 40, tol)
     }
 }
 
@@ -275,20 +238,44 @@ fn clipping_kinks(gamma: f64) -> [f64; 4] {
     ]
 }
 
-/// The pieces `(lo, hi, towards(lo, hi))` between consecutive distinct
-/// finite `cuts` (sorted here, NaN ignored), and how many there are.
+/// The pieces of `[lo, hi]` between the `cuts` strictly inside it (in any
+/// order; NaN and cuts outside ignored), in order, and how many there are:
+/// the piece from `lo` refined towards `ends.0`, the one to `hi` towards
+/// `ends.1` (a single piece takes `ends.0`), the others `Neither`.
+///
+/// Plain loops over fixed arrays: the library's sort and slice indexing
+/// would add kilobytes to the browser demo's module.
 fn pieces_between(
-    cuts: &mut [f64; 7],
-    towards: impl Fn(f64, f64) -> Towards,
+    lo: f64,
+    hi: f64,
+    cuts: [f64; 5],
+    ends: (Towards, Towards),
 ) -> ([(f64, f64, Towards); 6], usize) {
-    cuts.sort_unstable_by(f64::total_cmp);
-    let mut pieces = [(0.0, 0.0, Towards::Neither); 6];
-    let mut n = 0;
-    let finite = cuts.iter().copied().filter(|c| c.is_finite());
-    for (lo, hi) in finite.clone().zip(finite.skip(1)) {
-        if hi > lo && n < pieces.len() {
-            pieces[n] = (lo, hi, towards(lo, hi));
-            n += 1;
+    // Cuts inside, then `hi` for the unused places; insertion sort.
+    let mut points = cuts.map(|c| if c > lo && c < hi { c } else { hi });
+    for i in 1..points.len() {
+        let mut j = i;
+        while j > 0 && points[j - 1] > points[j] {
+            points.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+    let mut pieces = [(lo, hi, Towards::Neither); 6];
+    let (mut n, mut start) = (0, lo);
+    for end in points.into_iter().chain([hi]) {
+        if end > start {
+            let towards = if start == lo {
+                ends.0
+            } else if end == hi {
+                ends.1
+            } else {
+                Towards::Neither
+            };
+            if let Some(piece) = pieces.get_mut(n) {
+                *piece = (start, end, towards);
+                n += 1;
+            }
+            start = end;
         }
     }
     (pieces, n)

@@ -274,14 +274,18 @@ fn check_power_of_two<F: Real>(seed: u64, n: i32, u: [f64; 6]) -> Result<(), Tes
             for (p, q) in b.x1.to_array().into_iter().zip(a.x1.to_array()) {
                 prop_assert!(scaled_exactly(p, q, n), "{what}: x1 {:?} {:?}", b.x1, a.x1);
             }
-            prop_assert!(
-                scaled_exactly(b.weight, a.weight, -n),
-                "{what}: weight {b:?} {a:?}"
-            );
-            prop_assert!(
-                scaled_exactly(b.pdf, a.pdf, -3 * n),
-                "{what}: pdf {b:?} {a:?}"
-            );
+            // The MIS companion's own density comes from its pdf where that
+            // is a normal number and is evaluated again where it is not
+            // (`Technique` has no way to return it): a few ulps apart.
+            let close = |x: F, y: F, m: i32| {
+                let want = y.scale_pow2(m);
+                scaled_exactly(x, y, m)
+                    || (k == 4
+                        && v == 1
+                        && (x - want).abs() <= F::from_f64(8.0) * F::EPSILON * want)
+            };
+            prop_assert!(close(b.weight, a.weight, -n), "{what}: weight {b:?} {a:?}");
+            prop_assert!(close(b.pdf, a.pdf, -3 * n), "{what}: pdf {b:?} {a:?}");
             let (fa, fb) = (unit.f_c(k, a.x1), scaled.f_c(k, b.x1));
             prop_assert!(scaled_exactly(fb, fa, -n), "{what}: f_c {fb:?} {fa:?}");
             if v == 0 {

@@ -106,16 +106,12 @@ impl<F: Real, L: Lobe<F> + Copy, P: Restricted<F> + Copy> Technique<F> for LobeM
         let u0 = u[0].clamp_to(F::ZERO, F::ONE);
         let (s, own, other) = if u0 < c {
             let v = (u0 / c).min(F::ONE_MINUS_EPSILON);
-            let (s, vertex, own) =
-                self.ray
-                    .sample_vertex_unit([v, u[1], u[2]], connection, unit)?;
+            let (s, vertex, own) = self.ray.sample_vertex_unit([v, u[1], u[2]], unit)?;
             let other = (F::ONE - c) * self.omnee.pdf_vertex_unit(&vertex, unit);
             (s, c * own, other)
         } else {
             let v = ((u0 - c) / (F::ONE - c)).clamp_to(F::ZERO, F::ONE_MINUS_EPSILON);
-            let (s, vertex, own) =
-                self.omnee
-                    .sample_vertex_unit([v, u[1], u[2]], connection, unit)?;
+            let (s, vertex, own) = self.omnee.sample_vertex_unit([v, u[1], u[2]], unit)?;
             let own = (F::ONE - c) * own;
             let other = if c > F::ZERO {
                 c * self.ray.pdf_vertex_unit(&vertex, unit)

@@ -83,7 +83,7 @@ pub use restricted::Restricted;
 use crate::error::Error;
 use crate::phase::{Deflection, PhaseFunction};
 use crate::real::{Real, Vector, unit_vector};
-use crate::sampling::{Connection, Sample, Technique, Unit, Vertex, saturate, unit_normal};
+use crate::sampling::{Omnee, Sample, Technique, Unit, Vertex, saturate, unit_normal};
 
 /// A direction drawn from a [`Lobe`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -302,6 +302,24 @@ impl<F: Real, T: Technique<F>, L: Lobe<F>> WithLobe<F, T, L> {
     }
 }
 
+impl<F: Real, P: PhaseFunction<F>, L: Lobe<F>> WithLobe<F, Omnee<F, P>, L> {
+    /// OMNEE's sample with its vertex and the density per `L³` of `unit` it
+    /// was drawn with, the lobe in its weight (for [`LobeMis`]).
+    #[inline]
+    pub(crate) fn sample_vertex_unit(
+        &self,
+        u: [F; 3],
+        unit: &Unit<F>,
+    ) -> Option<(Sample<F>, Vertex<F>, F)> {
+        let (s, v, density) = self.technique.sample_vertex_unit(u, unit)?;
+        let s = Sample {
+            weight: saturate(s.weight * self.lobe_at(s.x1)),
+            ..s
+        };
+        Some((s, v, density))
+    }
+}
+
 impl<F: Real, T: Technique<F>, L: Lobe<F>> Technique<F> for WithLobe<F, T, L> {
     /// The technique's sample, its weight times `p0(ω01)`.
     #[inline]
@@ -326,22 +344,6 @@ impl<F: Real, T: Technique<F>, L: Lobe<F>> Technique<F> for WithLobe<F, T, L> {
     #[inline]
     fn pdf_vertex_unit(&self, v: &Vertex<F>, unit: &Unit<F>) -> F {
         self.technique.pdf_vertex_unit(v, unit)
-    }
-    /// The technique's sample with its density per `L³`, the lobe in its
-    /// weight.
-    #[inline]
-    fn sample_vertex_unit(
-        &self,
-        u: [F; 3],
-        connection: &Connection<F>,
-        unit: &Unit<F>,
-    ) -> Option<(Sample<F>, Vertex<F>, F)> {
-        let (s, v, density) = self.technique.sample_vertex_unit(u, connection, unit)?;
-        let s = Sample {
-            weight: saturate(s.weight * self.lobe_at(s.x1)),
-            ..s
-        };
-        Some((s, v, density))
     }
     /// The technique's inverse.
     #[inline]

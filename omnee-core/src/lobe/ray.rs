@@ -160,6 +160,24 @@ impl<F: Real, L: Lobe<F>, P: Restricted<F>> LobeRay<F, L, P> {
     }
 }
 
+impl<F: Real, L: Lobe<F>, P: Restricted<F>> LobeRay<F, L, P> {
+    /// The sample with its vertex and the density per `L³` of `unit` it
+    /// was drawn with (for [`super::LobeMis`]).
+    pub(crate) fn sample_vertex_unit(
+        &self,
+        u: [F; 3],
+        unit: &Unit<F>,
+    ) -> Option<(Sample<F>, Vertex<F>, F)> {
+        let (s, density) = self.sample_unit(u)?;
+        let own = &self.connection.axis.unit;
+        Some((
+            s,
+            Vertex::at(&self.connection, s.x1),
+            in_unit(density, own, unit),
+        ))
+    }
+}
+
 impl<F: Real, L: Lobe<F>, P: Restricted<F>> Technique<F> for LobeRay<F, L, P> {
     /// ω from `(u0, u1)` by the lobe, θ from `u2` by `p1` restricted to
     /// `[α, θmax)`, `β = θ − α`, `x1 = x0 + d1 ω` with `d1` from
@@ -169,18 +187,6 @@ impl<F: Real, L: Lobe<F>, P: Restricted<F>> Technique<F> for LobeRay<F, L, P> {
     /// point.
     fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
         self.sample_unit(u).map(|(s, _)| s)
-    }
-
-    /// The sample with the density per `L³` it was drawn with.
-    fn sample_vertex_unit(
-        &self,
-        u: [F; 3],
-        c: &Connection<F>,
-        unit: &Unit<F>,
-    ) -> Option<(Sample<F>, Vertex<F>, F)> {
-        let (s, density) = self.sample_unit(u)?;
-        let own = &self.connection.axis.unit;
-        Some((s, Vertex::at(c, s.x1), in_unit(density, own, unit)))
     }
 
     /// `pdf_ω(ω) · 2π p1(θ) sin θ · s sin α / (M d1² d2²)` with ω, α from

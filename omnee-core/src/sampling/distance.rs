@@ -181,20 +181,8 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Distance<F, P> {
 
     /// [`sample`](Technique::sample) with `x1 − x2 = t ω` and
     /// `x1 − x0 = (x2 − x0) + t ω` as placed.
-    fn sample_vertex(&self, u: [F; 3], c: &Connection<F>) -> Option<(Sample<F>, Vertex<F>)> {
-        let unit = self.connection.axis.unit;
-        self.sample_vertex_unit(u, c, &unit).map(|(s, v, _)| (s, v))
-    }
-
-    /// [`sample_vertex`](Technique::sample_vertex) with the density per `L³`
-    /// it was drawn with.
-    fn sample_vertex_unit(
-        &self,
-        u: [F; 3],
-        _: &Connection<F>,
-        unit: &Unit<F>,
-    ) -> Option<(Sample<F>, Vertex<F>, F)> {
-        let (s, density) = self.sample_unit(u)?;
+    fn sample_vertex(&self, u: [F; 3], _: &Connection<F>) -> Option<(Sample<F>, Vertex<F>)> {
+        let (s, _) = self.sample_unit(u)?;
         let axis = &self.connection.axis;
         let from_x2 = s.x1 - axis.x2; // t ω, exact up to one rounding of x1
         let from_x0 = (axis.x2 - axis.x0) + from_x2;
@@ -203,7 +191,7 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Distance<F, P> {
             from_x0,
             from_x2,
         };
-        Some((s, vertex, in_unit(density, &axis.unit, unit)))
+        Some((s, vertex))
     }
 
     /// `pdf_ω(ω) pdf(t) / t²` inside the medium segment, else 0.

@@ -328,17 +328,6 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Equiangular<F, P> {
         )
     }
 
-    /// The vertex as computed with the density per `L³` it was drawn with.
-    fn sample_vertex_unit(
-        &self,
-        u: [F; 3],
-        _: &Connection<F>,
-        unit: &Unit<F>,
-    ) -> Option<(Sample<F>, Vertex<F>, F)> {
-        let (s, v, density) = self.sample_with_offsets(u)?;
-        Some((s, v, in_unit(density, &self.connection.axis.unit, unit)))
-    }
-
     /// `(u0, u1)` from the direction, `u2` from the equiangular angle.
     fn invert(&self, x1: F::Vec3) -> Option<[F; 3]> {
         let to_x1 = self.connection.axis.from_x2_unit(x1);

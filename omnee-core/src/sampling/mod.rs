@@ -89,30 +89,6 @@ pub trait Technique<F: Real> {
         Some((s, Vertex::at(connection, s.x1)))
     }
 
-    /// [`sample_vertex`](Self::sample_vertex) with the density the vertex was
-    /// drawn with per `L³` of `unit` (a connection's [`Unit`]): what MIS
-    /// compares, at any scale (docs/math.md §14). The default converts the
-    /// sample's pdf where it is a normal number (exactly) and evaluates
-    /// [`pdf_vertex_unit`](Self::pdf_vertex_unit) where it under- or
-    /// overflowed; the core's techniques return the density they computed
-    /// in the unit while sampling, so that the result does not depend on
-    /// the scale at all.
-    #[inline]
-    fn sample_vertex_unit(
-        &self,
-        u: [F; 3],
-        connection: &Connection<F>,
-        unit: &Unit<F>,
-    ) -> Option<(Sample<F>, Vertex<F>, F)> {
-        let (s, v) = self.sample_vertex(u, connection)?;
-        let density = if s.pdf >= F::MIN_POSITIVE && s.pdf < F::MAX {
-            unit.density_to_unit(s.pdf)
-        } else {
-            self.pdf_vertex_unit(&v, unit)
-        };
-        Some((s, v, density))
-    }
-
     /// [`pdf`](Self::pdf) at a vertex given with its offsets from the end
     /// points: the default evaluates it at the point `v.x1`; techniques whose
     /// density depends on `d1 = |x1 − x0|`, `d2 = |x1 − x2|` take them from the
@@ -319,15 +295,29 @@ pub(crate) fn segments<F: Real>(a: F::Vec3, b: F::Vec3) -> Option<(Deflection<F>
     let d = if la >= lo && la <= hi && lb >= lo && lb <= hi {
         Deflection::between_segments(a, la, b, lb)
     } else {
-        let (ka, kb) = (la.exponent(), lb.exponent());
-        Deflection::between_segments(
-            a.scale_pow2(-ka),
-            la.scale_pow2(-ka),
-            b.scale_pow2(-kb),
-            lb.scale_pow2(-kb),
-        )
+        scaled_segments(a, la, b, lb)
     };
     Some((d, la, lb))
+}
+
+/// The density per `L³` of `unit` a sample `s` of any technique at the
+/// vertex `v` was drawn with: its pdf converted where that is a normal
+/// number (exact), else `evaluate(v)` (the technique's
+/// [`Technique::pdf_vertex_unit`]), where the volume density under- or
+/// overflowed. (The core's techniques know the density they computed in
+/// the unit while sampling and return it directly.)
+#[inline(never)]
+pub(crate) fn density_of<F: Real>(
+    s: &Sample<F>,
+    v: &Vertex<F>,
+    unit: &Unit<F>,
+    evaluate: &dyn Fn(&Vertex<F>) -> F,
+) -> F {
+    if s.pdf >= F::MIN_POSITIVE && s.pdf < F::MAX {
+        unit.density_to_unit(s.pdf)
+    } else {
+        evaluate(v)
+    }
 }
 
 /// A density `q` per `L³` of a connection's unit `own`, as a density per
@@ -336,6 +326,19 @@ pub(crate) fn segments<F: Real>(a: F::Vec3, b: F::Vec3) -> Option<(Deflection<F>
 #[inline]
 pub(crate) fn in_unit<F: Real>(q: F, own: &Unit<F>, unit: &Unit<F>) -> F {
     saturate(q.scale_pow2(3 * (unit.exponent - own.exponent)))
+}
+
+/// [`segments`] off its fast path: the vectors brought to length one by
+/// exact scalings first.
+#[cold]
+fn scaled_segments<F: Real>(a: F::Vec3, la: F, b: F::Vec3, lb: F) -> Deflection<F> {
+    let (ka, kb) = (la.exponent(), lb.exponent());
+    Deflection::between_segments(
+        a.scale_pow2(-ka),
+        la.scale_pow2(-ka),
+        b.scale_pow2(-kb),
+        lb.scale_pow2(-kb),
+    )
 }
 
 /// A density or weight made safe to return: NaN → 0, +∞ → `F::MAX`.

@@ -89,6 +89,34 @@ impl<F: Real, P: PhaseFunction<F>> Omnee<F, P> {
     #[cfg_attr(not(target_arch = "wasm32"), inline(always))]
     #[cfg_attr(target_arch = "wasm32", inline)]
     pub(crate) fn sample_unit(&self, u: [F; 3]) -> Option<UnitDraw<F>> {
+        // One branch per draw, on the connection: at ordinary scales
+        // (L = 1) the draw has no scaling in it at all (a scaling per value,
+        // even a select, lengthens the chain the sample's latency is). The
+        // browser demo's module keeps one copy: the scaling path, exact for
+        // L = 1 too.
+        #[cfg(not(target_arch = "wasm32"))]
+        if self.connection.axis.unit.exponent == 0 {
+            return self.draw::<false>(u);
+        }
+        self.draw::<true>(u)
+    }
+
+    /// The vertex as placed with the density per `L³` of `unit` it was
+    /// drawn with (for [`crate::lobe::LobeMis`]).
+    #[inline]
+    pub(crate) fn sample_vertex_unit(
+        &self,
+        u: [F; 3],
+        unit: &Unit<F>,
+    ) -> Option<(Sample<F>, Vertex<F>, F)> {
+        let (s, v, _, density) = self.sample_unit(u)?;
+        Some((s, v, in_unit(density, &self.connection.axis.unit, unit)))
+    }
+
+    /// [`Self::sample_unit`] with the scalings by `L` (`SCALED`) or
+    /// without them (`L = 1`).
+    #[inline(always)]
+    fn draw<const SCALED: bool>(&self, u: [F; 3]) -> Option<UnitDraw<F>> {
         let axis = &self.connection.axis;
         let (d, phase_pdf, ratio) = self.phase.sample_ratio(u[0]);
         if !(d.theta < self.connection.theta_max) {
@@ -100,7 +128,15 @@ impl<F: Real, P: PhaseFunction<F>> Omnee<F, P> {
         if !(unit.d1 > F::ZERO && unit.d2 > F::ZERO) {
             return None; // x1 on an end point, where the integrand is singular
         }
-        let triangle = unit.scaled(axis.unit.length);
+        let triangle = if SCALED {
+            Triangle {
+                d1: unit.d1 * axis.unit.length,
+                d2: unit.d2 * axis.unit.length,
+                ..unit
+            }
+        } else {
+            unit
+        };
         let (sin_phi, cos_phi) = u[2].sin_cos_turn();
         let radial = axis.b1 * cos_phi + axis.b2 * sin_phi;
         let from_x0 = axis.e * (triangle.d1 * triangle.cos_alpha)
@@ -111,10 +147,19 @@ impl<F: Real, P: PhaseFunction<F>> Omnee<F, P> {
         }
         let from_x2 = radial * (triangle.d2 * sin_beta) - axis.e * (triangle.d2 * cos_beta);
         let density = self.density_unit(phase_pdf, unit.sinc_theta, unit.d1, unit.d2);
-        let sample = Sample {
-            x1,
-            pdf: saturate(axis.unit.density_from_unit(density)),
-            weight: saturate(ratio / (axis.s_unit * unit.sinc_theta) * axis.unit.inverse),
+        let weight = ratio / (axis.s_unit * unit.sinc_theta);
+        let sample = if SCALED {
+            Sample {
+                x1,
+                pdf: saturate(density.scale_pow2(-3 * axis.unit.exponent)),
+                weight: saturate(weight * axis.unit.inverse),
+            }
+        } else {
+            Sample {
+                x1,
+                pdf: saturate(density),
+                weight: saturate(weight),
+            }
         };
         let vertex = Vertex {
             x1,
@@ -186,17 +231,6 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Omnee<F, P> {
         )
     }
 
-    /// The vertex as placed with the density per `L³` it was drawn with.
-    #[inline]
-    fn sample_vertex_unit(
-        &self,
-        u: [F; 3],
-        _: &Connection<F>,
-        unit: &Unit<F>,
-    ) -> Option<(Sample<F>, Vertex<F>, F)> {
-        let (s, v, _, density) = self.sample_unit(u)?;
-        Some((s, v, in_unit(density, &self.connection.axis.unit, unit)))
-    }
     /// `(cdf(θ), β/θ, φ/2π)`; `None` for θ ≥ θmax or a phase function whose
     /// sampler is not invertible (mixtures).
     #[inline]
