@@ -1,4 +1,4 @@
-//! The lobe at `x0` (issue 15): OMNEE, the lobe technique and their
+//! The lobe at `x0`: OMNEE, the lobe technique and their
 //! combination on the issue's point-to-point problem, per sample and per
 //! unit of time, against the 3-D quadrature reference (docs/math.md §12).
 //!

@@ -1,6 +1,6 @@
 //! Cost of one sample: nanoseconds per `sample` and per `pdf` for every
 //! technique and phase function, in f32 and f64, and the cost of one
-//! once-more connection of the slab renderer per technique (issue 4, item 1).
+//! once-more connection of the slab renderer per technique.
 //!
 //! What is measured, per criterion benchmark:
 //!
@@ -27,10 +27,19 @@
 //! - `batch/f32/omnee/<hg>`: `Omnee::sample_batch`, the structure-of-arrays
 //!   entry point, on the batch's triples (compare `sample/f32/omnee/<hg>`).
 //! - `batch/f32/omnee-one/hg0.9`, `draw/f32/mis-{lazy,six}/hg0.9`,
-//!   `pdf/f32/equiangular-at-{point,vertex}/hg0.9`: issue 12's batch of one
-//!   vertex, `OmneeMis`'s lazy draw and the density at a vertex with its
-//!   offsets (see `issue12` below).
-//! - `slab/<technique>`: one call of `omnee_cli::world::World::once_more` on
+//!   `pdf/f32/equiangular-at-{point,vertex}/hg0.9`: a batch of one vertex,
+//!   `OmneeMis`'s lazy draw and the density at a vertex with its offsets
+//!   (see `one_vertex_and_companion` below).
+//! - `connections_<f32|f64>/<technique>/<phase>`: `Connections`, the batch
+//!   over connections: the same 256 uniform triples per iteration as
+//!   `sample/*`, each lane with a connection of its own (end points from a
+//!   pool of 2¹⁶ pairs, θmax = π), one call per iteration; `omnee` through
+//!   `sample_omnee`, `mis` through `sample_mis` (the CLI's MIS, the six
+//!   numbers of `sample/*/mis`), and `omnee-scalar`, the scalar calls it
+//!   replaces (`Connection::new` and `Omnee::sample` per lane). Compare
+//!   with `sample/<precision>/omnee/<phase>` (one fixed connection, scalar)
+//!   and `batch/f32/omnee/<phase>` (one connection, vectorised).
+//! - `slab/<technique>`: one call of `SlabWorld::once_more` on
 //!   the default scene (`omnee default-scene`) for 256 floor points: a light
 //!   point, the connection, the technique's vertex, closed-form
 //!   transmittance on both legs and the occluder tests.
@@ -121,7 +130,7 @@ impl ValueFormatter for CpuFormatter {
     }
 }
 
-/// Samples per criterion iteration.
+/// SampleArrays per criterion iteration.
 const BATCH: usize = 256;
 
 /// Inputs per pool: each iteration takes the next `BATCH` of them, so an
@@ -162,16 +171,9 @@ fn uniforms<F: Real>() -> Vec<[F; 3]> {
 
 /// `n` uniform triples of the same stream.
 fn uniforms_n<F: Real>(n: usize) -> Vec<[F; 3]> {
-    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-    let mut next = || {
-        state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        // 24 bits so that the f32 and f64 runs see the same numbers.
-        F::from_f64((z >> 40) as f64 / (1u64 << 24) as f64)
-    };
+    let mut rng = omnee::rng::SplitMix64::new(omnee::rng::SplitMix64::GAMMA);
+    // 24 bits so that the f32 and f64 runs see the same numbers.
+    let mut next = || F::from_f64((rng.next_u64() >> 40) as f64 / (1u64 << 24) as f64);
     (0..n).map(|_| [next(), next(), next()]).collect()
 }
 
@@ -405,16 +407,16 @@ fn all<F: Real>(c: &mut Criterion<CpuTime>, precision: &str) {
 }
 
 /// One once-more connection of the slab renderer, per technique: the cost of
-/// `World::once_more` at 256 floor points of the default scene.
+/// `SlabWorld::once_more` at 256 floor points of the default scene.
 fn slab(c: &mut Criterion<CpuTime>) {
     use omnee::method::Method;
-    use omnee_cli::rng::Rng;
-    use omnee_cli::scene::Scene;
-    use omnee_cli::world::{OnceMore, Roulette, Stats, World};
-    let scene = Scene::default_scene();
-    let mut storage = omnee_cli::phase::TableStorage::<f32>::default();
+    use omnee_render::rng::Rng;
+    use omnee_render::scenes::slab::world::{OnceMore, Roulette};
+    use omnee_render::scenes::slab::{SlabScene, SlabStats, SlabWorld};
+    let scene = SlabScene::default_scene();
+    let mut storage = omnee_render::phase::TableStorage::<f32>::default();
     let phase = scene.medium.phase.instantiate::<f32>(&mut storage).unwrap();
-    let world = World::new(&scene, phase).unwrap();
+    let world = SlabWorld::new(&scene, phase).unwrap();
     let points: Vec<glam::Vec3> = (0..BATCH)
         .map(|i| {
             glam::Vec3::new(
@@ -435,7 +437,7 @@ fn slab(c: &mut Criterion<CpuTime>) {
         group.bench_function(method.name(), |b| {
             b.iter(|| {
                 pass += 1;
-                let mut stats = Stats::default();
+                let mut stats = SlabStats::default();
                 let mut acc = 0.0f32;
                 for (i, &p) in points.iter().enumerate() {
                     let mut rng = Rng::stream(7, i as u64, pass);
@@ -496,7 +498,8 @@ fn batch(c: &mut Criterion<CpuTime>) {
     group.finish();
 }
 
-/// Issue 12's other measurements, f32, HG 0.9, the connection of `sample/*`:
+/// One vertex at a time and MIS's companion, f32, HG 0.9, the connection of
+/// `sample/*`:
 ///
 /// - `batch/f32/omnee-one/hg0.9`: `Omnee::sample_batch` called with one
 ///   vertex at a time, as a renderer that draws one vertex per connection
@@ -507,7 +510,7 @@ fn batch(c: &mut Criterion<CpuTime>) {
 /// - `pdf/f32/equiangular-at-{point,vertex}/hg0.9`: the companion's
 ///   density at OMNEE's vertices from the point (`pdf(x1)`) and from the
 ///   vertex with its offsets (`pdf_vertex`), what `OmneeMis` evaluates.
-fn issue12(c: &mut Criterion<CpuTime>) {
+fn one_vertex_and_companion(c: &mut Criterion<CpuTime>) {
     use omnee::rng::SplitMix64;
     use omnee::sampling::{Uniforms, Vertex, Vertices, uniform};
     let full = Connection::new(glam::Vec3::Z, glam::Vec3::ZERO, std::f32::consts::PI).unwrap();
@@ -607,11 +610,173 @@ fn issue12(c: &mut Criterion<CpuTime>) {
     group.finish();
 }
 
+/// End points for `connections_*`: `POOL` pairs, `x0` in the unit cube
+/// about `(0, 0, 1)` and `x2` in the one about the origin (s ≈ 1, as the
+/// scalar benchmarks' connection), from a fixed SplitMix64 stream.
+fn endpoints<F: Real>() -> [Vec<F>; 6] {
+    let mut rng = omnee::rng::SplitMix64::new(0xc0_44ec_7104);
+    let mut cols: [Vec<F>; 6] = Default::default();
+    for _ in 0..POOL {
+        for (k, col) in cols.iter_mut().enumerate() {
+            let u: f64 = omnee::sampling::uniform(&mut rng);
+            let centre = if k == 2 { 1.0 } else { 0.0 };
+            col.push(F::from_f64(centre + u - 0.5));
+        }
+    }
+    cols
+}
+
+/// The batch over connections: `connections_<precision>/<technique>/<name>`
+/// (see the top of the file), for OMNEE, MIS and the scalar calls it
+/// replaces.
+fn connections<F: Real, P: omnee::sampling::PhaseBatch<F> + Copy>(
+    c: &mut Criterion<CpuTime>,
+    precision: &str,
+    name: &str,
+    phase: P,
+    with_mis: bool,
+) {
+    use omnee::method::Setup;
+    use omnee::sampling::{Connections, Points, PointsMut, SampleArrays, Uniforms};
+    let [ax, ay, az, bx, by, bz] = endpoints::<F>();
+    let us = uniforms::<F>();
+    let soa = |k: usize| us.iter().map(|u| u[k]).collect::<Vec<F>>();
+    let (u0, u1, u2) = (soa(0), soa(1), soa(2));
+    // The MIS companion's three: the next triple, as `sample/*/mis` takes them.
+    let next = |k: usize| (0..POOL).map(|i| us[(i + 1) % POOL][k]).collect::<Vec<F>>();
+    let (v0, v1, v2) = (next(0), next(1), next(2));
+    // The same walk through the pool as the scalar benchmarks.
+    let at = std::cell::Cell::new(0usize);
+    let window = || {
+        let i = at.get();
+        at.set((i + BATCH) % POOL);
+        i..i + BATCH
+    };
+    let lanes = |w: std::ops::Range<usize>| {
+        Connections::new(
+            Points {
+                x: &ax[w.clone()],
+                y: &ay[w.clone()],
+                z: &az[w.clone()],
+            },
+            Points {
+                x: &bx[w.clone()],
+                y: &by[w.clone()],
+                z: &bz[w],
+            },
+            F::PI,
+        )
+        .unwrap()
+    };
+    let mut out: [Vec<F>; 10] = core::array::from_fn(|_| vec![F::ZERO; BATCH]);
+    let mut valid = [vec![false; BATCH], vec![false; BATCH]];
+    let mut group = c.benchmark_group(format!("connections_{precision}"));
+    group.throughput(Throughput::Elements(BATCH as u64));
+    group.bench_function(BenchmarkId::new("omnee", name), |b| {
+        b.iter(|| {
+            let w = window();
+            let [x, y, z, pdf, weight, ..] = &mut out;
+            let samples = SampleArrays {
+                x1: PointsMut { x, y, z },
+                pdf,
+                weight,
+                valid: &mut valid[0],
+            };
+            let u = Uniforms {
+                u0: black_box(&u0[w.clone()]),
+                u1: &u1[w.clone()],
+                u2: &u2[w.clone()],
+            };
+            let n = lanes(w).sample_omnee(&phase, u, samples).unwrap();
+            F::from_f64(n as f64) + out[3][n / 2] + out[4][n / 3] + out[0][n / 4]
+        })
+    });
+    group.bench_function(BenchmarkId::new("omnee-scalar", name), |b| {
+        b.iter(|| {
+            let w = window();
+            let mut acc = F::ZERO;
+            for i in w {
+                let x0 = F::Vec3::new(ax[i], ay[i], az[i]);
+                let x2 = F::Vec3::new(bx[i], by[i], bz[i]);
+                let Ok(conn) = Connection::new(black_box(x0), x2, F::PI) else {
+                    continue;
+                };
+                if let Some(s) = Omnee::new(conn, phase).sample([u0[i], u1[i], u2[i]]) {
+                    acc += s.weight + s.pdf + s.x1.x();
+                }
+            }
+            acc
+        })
+    });
+    if with_mis {
+        let setup = Setup::new(phase, Directions::Sphere, Region::Everywhere, F::ONE).unwrap();
+        group.bench_function(BenchmarkId::new("mis", name), |b| {
+            b.iter(|| {
+                let w = window();
+                let [x, y, z, pdf, weight, cx, cy, cz, cpdf, cweight] = &mut out;
+                let [valid, cvalid] = &mut valid;
+                let omnee = SampleArrays {
+                    x1: PointsMut { x, y, z },
+                    pdf,
+                    weight,
+                    valid,
+                };
+                let companion = SampleArrays {
+                    x1: PointsMut {
+                        x: cx,
+                        y: cy,
+                        z: cz,
+                    },
+                    pdf: cpdf,
+                    weight: cweight,
+                    valid: cvalid,
+                };
+                let u = Uniforms {
+                    u0: black_box(&u0[w.clone()]),
+                    u1: &u1[w.clone()],
+                    u2: &u2[w.clone()],
+                };
+                let v = Uniforms {
+                    u0: &v0[w.clone()],
+                    u1: &v1[w.clone()],
+                    u2: &v2[w.clone()],
+                };
+                let n = lanes(w).sample_mis(&setup, u, v, omnee, companion).unwrap();
+                F::from_f64(n as f64) + out[3][n / 2] + out[4][n / 3] + out[9][0]
+            })
+        });
+    }
+    group.finish();
+}
+
+/// `connections_*` for HG 0.9 (f32 and f64) and for Fournier–Forand
+/// sampled through its table (f32).
+fn all_connections(c: &mut Criterion<CpuTime>) {
+    connections(
+        c,
+        "f32",
+        "hg0.9",
+        HenyeyGreenstein::new(0.9f32).unwrap(),
+        true,
+    );
+    connections(
+        c,
+        "f64",
+        "hg0.9",
+        HenyeyGreenstein::new(0.9f64).unwrap(),
+        true,
+    );
+    let ff = FournierForand::new(0.0183f32, 1.10).unwrap();
+    let table = InverseCdf::new(&ff).unwrap();
+    connections(c, "f32", "ff", TableSampled::new(ff, &table), true);
+}
+
 fn benches(c: &mut Criterion<CpuTime>) {
     all::<f32>(c, "f32");
     all::<f64>(c, "f64");
     batch(c);
-    issue12(c);
+    one_vertex_and_companion(c);
+    all_connections(c);
     slab(c);
 }
 

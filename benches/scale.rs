@@ -1,4 +1,4 @@
-//! Extreme scales (docs/math.md §14): every technique's estimate of the
+//! Extreme scales (docs/math.md §15): every technique's estimate of the
 //! point-to-point transfer at end points from 1e-30 to 3e38 apart in f32 and
 //! from 1e-300 to 1.6e308 apart in f64, against the quadrature reference of
 //! the same problem at unit scale.
@@ -9,7 +9,7 @@
 //! lobe techniques HG 0.8 at `x0` about +z, perpendicular to the axis; the
 //! cosine rays' receiver normal (0.3, −0.2, 1). Moving the end points by λ
 //! and σ by 1/λ divides `f_c` and every weight by λ and the transfer by λ²
-//! (docs/math.md §14.3), and at these scales the transfer λ⁻² I itself is
+//! (docs/math.md §15.3), and at these scales the transfer λ⁻² I itself is
 //! outside the precision's range (1e60 at s = 1e-30 in f32), so each draw's
 //! estimate is taken factor by factor, `(f_c λ)(weight λ)`, in f64.
 //!

@@ -1,5 +1,5 @@
 //! Run time against error for the once-more term of the slab renderer
-//! (issue 4, item 2), driving the `omnee` binary of `omnee-cli`.
+//! driving the `omnee` binary of `omnee-cli`.
 //!
 //! Build the renderer first, in the same target directory:
 //! `cargo build --release -p omnee-cli && cargo bench --bench slab_time_vs_error`
@@ -12,7 +12,7 @@
 //!
 //! Variants: the default scene (`omnee default-scene`: water-like slab,
 //! HG g = 0.98, σs = 0.5, σa = 0.05, light 0.95 m above the floor, so
-//! σt·H ≈ 0.52); the same scene with each phase function of issue 4; and with
+//! σt·H ≈ 0.52); the same scene with each phase function of `BENCH_PHASES`; and with
 //! the default phase function at σt·H ∈ {0.1, 1, 3} (σs/σt kept).
 //!
 //! Per variant: a reference, the mean of two independent `omnee` (OMNEE,
@@ -35,7 +35,7 @@ mod common;
 
 use common::curve::{Curve, Point};
 use common::{
-    COLORS, ISSUE4_PHASES, NAMES, arg, best_other_single, docs_path, flag, fmt_opt, fmt3, loglog,
+    BENCH_PHASES, COLORS, NAMES, arg, best_other_single, docs_path, flag, fmt_opt, fmt3, loglog,
     ratio,
 };
 use std::fmt::Write as _;
@@ -67,7 +67,7 @@ fn variants() -> Vec<Variant> {
         phase: DEFAULT_PHASE,
         tau: None,
     }];
-    for p in ISSUE4_PHASES.into_iter().filter(|&p| p != DEFAULT_PHASE) {
+    for p in BENCH_PHASES.into_iter().filter(|&p| p != DEFAULT_PHASE) {
         v.push(Variant {
             name: format!("{p}, τ≈0.52"),
             phase: p,
@@ -136,9 +136,9 @@ struct Img {
 }
 
 /// The main layer of an EXR written by the renderer
-/// ([`omnee_cli::image::read_exr`]).
+/// ([`omnee_render::files::read_exr`]).
 fn read_exr(path: &Path) -> Img {
-    let layers = omnee_cli::image::read_exr(path).expect("read EXR");
+    let layers = omnee_render::files::read_exr(path).expect("read EXR");
     let rgb = layers
         .get("")
         .expect("the main layer")

@@ -1,4 +1,4 @@
-//! Numerical stability under stress (issue 4, item 4): every technique over
+//! Numerical stability under stress: every technique over
 //! extreme inputs, f32 against f64 through the same generic code.
 //!
 //! Cases (the full cross product): 15 phase functions (HG with g from −0.9999

@@ -101,13 +101,13 @@ def main():
         print("| " + " | ".join(cell(d) for _, d in slab) + " |")
 
 def targets(data):
-    """The ratios issue 12 sets targets for, from this run (f32)."""
+    """The speed ratios the project tracks (docs/benchmarks.md §7), from this run (f32)."""
     get = lambda g, f, v=None: data.get((g, f, v))
     hg = get("sample/f32", "omnee", "hg0.9")
     eq = get("sample/f32", "equiangular", "hg0.9")
     if not (hg and eq):
         return
-    print("\n#### Issue 12 targets (f32, this run)\n")
+    print("\n#### Tracked ratios (f32, this run)\n")
     print("| quantity | measured | target |")
     print("|---|---|---|")
     for v in ["iso", "hg0", "hg0.9", "hg0.98"]:

@@ -1,5 +1,5 @@
 //! Run time against error for the point-to-point once-more integral
-//! (issue 4, items 2 and 3), against its f64 quadrature reference.
+//! against its f64 quadrature reference.
 //!
 //! The problem (docs/math.md §5, `omnee::reference::PointToPoint`): a unit point
 //! light at `x0 = 0`, a point receiver at `x2 = (0, 0, 1)` (s = 1), an infinite
@@ -43,7 +43,7 @@ mod common;
 
 use common::curve::{Curve, Point};
 use common::{
-    COLORS, ISSUE4_PHASES, NAMES, arg, best_other_single, docs_path, fmt_opt, fmt3, loglog, phase,
+    BENCH_PHASES, COLORS, NAMES, arg, best_other_single, docs_path, fmt_opt, fmt3, loglog, phase,
     ratio, seed,
 };
 use cpu_time::ThreadTime;
@@ -275,7 +275,7 @@ fn main() {
     math_table(&mut md);
 
     let mut rows = Vec::new();
-    for spec in ISSUE4_PHASES {
+    for spec in BENCH_PHASES {
         for tau in TAUS {
             let row = measure(spec, tau, reps, max_log2);
             eprintln!(

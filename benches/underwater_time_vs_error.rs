@@ -1,4 +1,4 @@
-//! The underwater scene (issue 11): the equal-time comparison of the
+//! The underwater scene: the equal-time comparison of the
 //! once-more techniques for `caustics-once-more`, like the talk's results
 //! slide, and the default render's time and image.
 //!
@@ -35,27 +35,36 @@ mod common;
 
 use common::{arg, docs_path, flag, fmt3, median};
 use cpu_time::ProcessTime;
-use omnee_cli::image::{Layers, tone_map, write_png};
-use omnee_cli::phase::TableStorage;
-use omnee_cli::render::budget::Budget;
-use omnee_cli::underwater::render::{Options, Rendered, render};
-use omnee_cli::underwater::scene::UnderwaterScene;
-use omnee_cli::underwater::transport::{LobeTech, OnceMoreTech, TERMS, Term, World};
+use omnee::method::LobeMethod;
+use omnee::term::Term;
+use omnee_render::files::write_png;
+use omnee_render::image::{Layers, tone_map};
+use omnee_render::phase::TableStorage;
+use omnee_render::render::budget::Budget;
+use omnee_render::render::{Options, render};
+use omnee_render::scenes::underwater::transport::CausticsMethod;
+use omnee_render::scenes::underwater::{
+    UNDERWATER_SCENE, UNDERWATER_TERMS, UnderwaterScene, UnderwaterStats, UnderwaterWorld,
+};
+use std::sync::atomic::AtomicBool;
+
+/// A finished render of the underwater scene.
+type Rendered = omnee_render::render::Rendered<UnderwaterStats>;
 use std::fmt::Write as _;
 use std::time::Instant;
 
 /// A compared variant: its label and how it sets up the world.
-type Variant = (&'static str, fn(&mut World<'_>));
+type Variant = (&'static str, fn(&mut UnderwaterWorld<'_>));
 
 /// `caustics-once-more`'s techniques (mis with the scene's defaults and
 /// with the built-in scene's rate 1 over all θ).
 const ONCE_MORE: [Variant; 4] = [
-    ("omnee", |w| w.once_more.tech = OnceMoreTech::Omnee),
+    ("omnee", |w| w.once_more.method = CausticsMethod::Omnee),
     ("equiangular", |w| {
-        w.once_more.tech = OnceMoreTech::Equiangular
+        w.once_more.method = CausticsMethod::Equiangular
     }),
     ("mis", |w| {
-        w.once_more.tech = OnceMoreTech::Mis;
+        w.once_more.method = CausticsMethod::Mis;
         w.once_more.mis_rate = 0.05;
         w.once_more.mis_theta_min = 0.75 * std::f32::consts::PI;
     }),
@@ -64,34 +73,36 @@ const ONCE_MORE: [Variant; 4] = [
 
 /// Two-sample MIS of OMNEE and camera-ray equiangular over the whole range:
 /// `caustics-once-more`'s reference.
-fn two_sample_mis(w: &mut World<'_>) {
-    w.once_more.tech = OnceMoreTech::Mis;
+fn two_sample_mis(w: &mut UnderwaterWorld<'_>) {
+    w.once_more.method = CausticsMethod::Mis;
     w.once_more.mis_rate = 1.0;
     w.once_more.mis_theta_min = 0.0;
 }
 
 /// `shafts-once-more`'s techniques; the reference is the second.
 const LOBE: [Variant; 2] = [
-    ("omnee (lobe in the weight)", |w| w.lobe = LobeTech::Omnee),
-    ("lobe-mis", |w| w.lobe = LobeTech::LobeMis),
+    ("omnee (lobe in the weight)", |w| w.lobe = LobeMethod::Omnee),
+    ("lobe-mis", |w| w.lobe = LobeMethod::LobeMis),
 ];
 
 /// Renders `world` for `spp` passes with `seed` on a pool of `threads`,
 /// returning the image and the CPU seconds it took.
-fn timed(world: &World<'_>, spp: u32, seed: u64, threads: usize) -> (Rendered, f64) {
+fn timed(world: &UnderwaterWorld<'_>, spp: u32, seed: u64, threads: usize) -> (Rendered, f64) {
     let (w, h) = (world.camera.width, world.camera.height);
     let opt = Options {
         budget: Budget::Spp(spp),
         seed,
         crop: [0, 0, w, h],
-        progress: false,
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .expect("thread pool");
     let before = ProcessTime::now();
-    let out = pool.install(|| render(world, &opt));
+    let go = AtomicBool::new(false);
+    let out = pool
+        .install(|| render(world, &opt, &|_| {}, &go))
+        .expect("not cancelled");
     (out, before.elapsed().as_secs_f64())
 }
 
@@ -164,7 +175,7 @@ fn at_time(curve: &[Point], budget: f64, error: Error) -> f64 {
 /// thread, against the same with a flat surface (no marching, no wave-band
 /// tests) and with σs = 0 (no scattering terms), and with each term alone.
 fn skips(md: &mut String, w: u32, h: u32) {
-    let base = omnee_cli::underwater::scene::UNDERWATER_SCENE;
+    let base = UNDERWATER_SCENE;
     let flat = {
         let cut = base.find("\n[[surface.waves]]").expect("waves");
         let end = base.find("\n[water]").expect("water");
@@ -176,7 +187,7 @@ fn skips(md: &mut String, w: u32, h: u32) {
         ("flat surface".into(), flat),
         ("water.sigma_s = 0 (scattering terms skipped)".into(), clear),
     ];
-    for term in TERMS {
+    for term in UNDERWATER_TERMS {
         let only = base.replace(
             "terms = [\"caustics\", \"caustics-once-more\", \"shafts\"]",
             &format!("terms = [\"{term}\"]"),
@@ -193,7 +204,7 @@ fn skips(md: &mut String, w: u32, h: u32) {
         let scene = UnderwaterScene::parse(&text).expect("variant parses");
         let mut storage = TableStorage::<f32>::default();
         let phase = scene.phase.instantiate::<f32>(&mut storage).expect("phase");
-        let world = World::new(&scene, phase, w, h);
+        let world = UnderwaterWorld::new(&scene, phase, w, h);
         let (_, cpu) = timed(&world, 8, 3, 1);
         let base_cpu = *first.get_or_insert(cpu);
         println!("{label:<48} {cpu:>7.2} s CPU");
@@ -210,12 +221,8 @@ fn spread(md: &mut String, k: usize, w: u32, h: u32) {
     let scene = UnderwaterScene::builtin();
     let mut storage = TableStorage::<f32>::default();
     let phase = scene.phase.instantiate::<f32>(&mut storage).expect("phase");
-    let world = World::new(&scene, phase, w, h);
-    let mut names: Vec<String> = TERMS
-        .iter()
-        .filter(|t| world.enabled(**t))
-        .map(Term::to_string)
-        .collect();
+    let world = UnderwaterWorld::new(&scene, phase, w, h);
+    let mut names: Vec<String> = world.layers.iter().map(Term::to_string).collect();
     names.push(String::new());
     let renders: Vec<(Rendered, f64)> = (0..k)
         .map(|i| timed(&world, 4, 1000 + i as u64, 1))
@@ -267,10 +274,10 @@ struct Settings {
 #[allow(clippy::too_many_arguments)]
 fn equal_time(
     md: &mut String,
-    world: &mut World<'_>,
+    world: &mut UnderwaterWorld<'_>,
     term: Term,
     variants: &[Variant],
-    reference: fn(&mut World<'_>),
+    reference: fn(&mut UnderwaterWorld<'_>),
     intro: &str,
     figure: &str,
     rest: &Settings,
@@ -453,7 +460,7 @@ fn main() {
 
     if flag("--render") {
         let (dw, dh) = (scene.camera.width, scene.camera.height);
-        let world = World::new(&scene, phase, dw, dh);
+        let world = UnderwaterWorld::new(&scene, phase, dw, dh);
         let spp = scene.render.spp;
         let start = Instant::now();
         let (out, cpu) = timed(&world, spp, scene.render.seed, 2);
@@ -462,7 +469,7 @@ fn main() {
         let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
             .join("omnee-cli/docs/underwater.png");
         write_png(&path, dw as usize, dh as usize, &srgb).expect("png");
-        for term in TERMS.into_iter().filter(|t| world.enabled(*t)) {
+        for term in world.layers.iter() {
             let (srgb, _) = tone_map(out.layers.get(&term.to_string()).expect("layer"), Some(ev));
             let p = docs_path(&format!("figures/underwater-{term}.png"));
             write_png(&p, dw as usize, dh as usize, &srgb).expect("png");
@@ -503,7 +510,7 @@ fn main() {
     };
     scene.render.terms = [false, true, false, false];
     let phase = scene.phase.instantiate::<f32>(&mut storage).expect("phase");
-    let mut world = World::new(&scene, phase, w, h);
+    let mut world = UnderwaterWorld::new(&scene, phase, w, h);
     let intro = format!(
         "## Equal time: the once-more techniques on `caustics-once-more`\n\n\
          The built-in scene at {w}x{h}, `caustics-once-more` only (phase `{}`, σs = 0.25 /m, floor 4 m \
@@ -531,7 +538,7 @@ fn main() {
 
     scene.render.terms = [false, false, false, true];
     let phase = scene.phase.instantiate::<f32>(&mut storage).expect("phase");
-    let mut world = World::new(&scene, phase, w, h);
+    let mut world = UnderwaterWorld::new(&scene, phase, w, h);
     let intro = format!(
         "## Equal time: the lobe at x0 on `shafts-once-more`\n\n\
          The built-in scene at {w}x{h}, `shafts-once-more` only: {} vertices x0 on each refracted sun ray \

@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
-# CI for the C API (issue 10), run by .ci/run from the repository root:
+# CI for the C API, run by .ci/run from the repository root:
 #  1. regenerates include/omnee.h with the pinned cbindgen and fails if the
 #     committed header differs;
 #  2. compiles the header alone as C99 and as C++17 (-Wall -Wextra -Werror
 #     -pedantic) and links a C++ caller;
 #  3. builds the staticlib, then the example, the error-path test, the
 #     promises test (corrupted objects, normals and directions of any length,
-#     extreme scales, outputs as documented) and the bit-pattern program with
+#     extreme scales, outputs as documented), the batch-over-connections test
+#     and the bit-pattern program with
 #     cc -std=c99 -Wall -Wextra -Werror -fsanitize=address,undefined, and
 #     runs them;
 #  4. checks that the C results equal the Rust API's bit for bit.
@@ -63,12 +64,13 @@ c++ "$out/header_cpp.o" "${lib[@]}" -o "$out/header_cpp" && "$out/header_cpp"
 step "C programs under AddressSanitizer and UndefinedBehaviorSanitizer"
 cflags=(-std=c99 -Wall -Wextra -Werror -g -fsanitize=address,undefined -fno-sanitize-recover=all
   -Iomnee-ffi/include)
-for program in examples/estimate tests/errors tests/promises tests/bits; do
+for program in examples/estimate tests/errors tests/promises tests/bits tests/connections; do
   cc "${cflags[@]}" "omnee-ffi/$program.c" "${lib[@]}" -o "$out/$(basename "$program")"
 done
 "$out/estimate"
 "$out/errors"
 "$out/promises"
+"$out/connections"
 
 step "C results equal the Rust API's, bit for bit"
 "$out/bits" >"$out/bits.txt"

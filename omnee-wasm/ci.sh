@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# CI for omnee-wasm (issue 5): installs what is missing (wasm target, Chromium +
+# CI for omnee-wasm: installs what is missing (wasm target, Chromium +
 # ChromeDriver, wasm-bindgen-cli at the Cargo.lock version, npm packages from
 # the lockfile), builds and size-checks the optimised .wasm, runs the native
 # tests, the wasm-bindgen-test suite in headless Chromium and the Playwright

@@ -15,10 +15,10 @@ use omnee::rng::mix;
 use plotters::style::RGBColor;
 use std::path::PathBuf;
 
-/// The phase functions of issue 4, in the CLI's spec syntax: HG from
+/// The phase functions the benchmarks compare, in the spec syntax: HG from
 /// isotropic to strongly forward, a two-term HG with a backward lobe, an
 /// ocean Fournier–Forand and a cloud-droplet Mie.
-pub const ISSUE4_PHASES: [&str; 7] = [
+pub const BENCH_PHASES: [&str; 7] = [
     "hg:0",
     "hg:0.5",
     "hg:0.9",

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# omnee on a microcontroller (issue 10): builds the firmware for a Cortex-M4F
+# omnee on a microcontroller: builds the firmware for a Cortex-M4F
 # (thumbv7em-none-eabihf), runs it under QEMU on the MPS2 AN386 board model,
 # measures its footprint, and prints as its last line one JSON object
 #   {"machine", "phase", "samples", "estimate", "stderr", "reference",
@@ -48,11 +48,15 @@ footprint() {
 log "building the firmware ($arm, $riscv)"
 cargo build --locked --release --target "$arm" --bins
 cargo build --locked --release --target "$riscv" --bins
+# Where cargo put them: CARGO_TARGET_DIR or the configuration may move the
+# target directory away from ./target.
+target=$(cargo metadata --format-version 1 --no-deps |
+  sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p')
 
 # The firmware prints "key value ..." lines, floats as hex IEEE bits.
 run() {
   timeout 900 qemu-system-arm -cpu cortex-m4 -machine mps2-an386 -nographic \
-    -semihosting-config enable=on,target=native -kernel "target/$arm/release/$1"
+    -semihosting-config enable=on,target=native -kernel "$target/$arm/release/$1"
 }
 field() { awk -v k="$1" '$1 == k { print $2; exit }' <<<"$2"; }
 f32() { perl -e 'printf "%.9g", unpack("f", pack("L", hex($ARGV[0])))' "$1"; }
@@ -62,23 +66,23 @@ log "running the firmware that links everything (every phase function and techni
 everything_status=0
 everything=$(run everything) || everything_status=$?
 printf '%s\n' "$everything" >&2
-read -r everything_flash everything_ram < <(footprint "target/$arm/release/everything")
+read -r everything_flash everything_ram < <(footprint "$target/$arm/release/everything")
 everything_stack=$((16#$(field stack_bytes "$everything")))
 
 log "running the minimal firmware (OMNEE + HG, f32)"
 minimal_status=0
 minimal=$(run minimal) || minimal_status=$?
 printf '%s\n' "$minimal" >&2
-read -r flash ram < <(footprint "target/$arm/release/minimal")
-read -r riscv_flash riscv_ram < <(footprint "target/$riscv/release/minimal")
-read -r riscv_everything_flash riscv_everything_ram < <(footprint "target/$riscv/release/everything")
+read -r flash ram < <(footprint "$target/$arm/release/minimal")
+read -r riscv_flash riscv_ram < <(footprint "$target/$riscv/release/minimal")
+read -r riscv_everything_flash riscv_everything_ram < <(footprint "$target/$riscv/release/everything")
 stack=$((16#$(field stack_bytes "$minimal")))
 
 # What (a) links: no other phase function or technique, and how much
 # software double arithmetic (libm's sinf/cosf compute in double; the core's
 # parameter checks compare in f64).
 if command -v llvm-nm >/dev/null; then nm_tool=llvm-nm; else nm_tool=nm; fi
-symbols=$("$nm_tool" -S -C "target/$arm/release/minimal")
+symbols=$("$nm_tool" -S -C "$target/$arm/release/minimal")
 others=$(grep -cE 'Draine|Mie|FournierForand|Tabulated|Rayleigh|Isotropic|Mixture|Equiangular|Distance|OmneeMis|OneSample|integral' <<<"$symbols" || true)
 double_bytes=$(perl -ne '@f = split " ", $_, 4;
   $s += hex $f[1] if @f == 4 && $f[3] =~ /^__aeabi_(d|f2d|i2d)|__(adddf|muldf|subdf|divdf)3$|^libm::math::(k_sinf|k_cosf|scalbn)::/;

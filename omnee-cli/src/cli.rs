@@ -8,40 +8,33 @@ use crate::commands::merge::{self, MergeArgs};
 use crate::commands::probe::{self, ProbeArgs};
 use crate::commands::render::{self, RenderArgs};
 use crate::commands::samples::{self, SamplesArgs};
-use crate::error::CliError;
-use crate::technique::Technique;
 use clap::error::{ContextKind, ContextValue, ErrorKind};
-use clap::{Parser, Subcommand, ValueEnum};
-
-const PHASE_SPECS: &str = "\
-Phase function specs (scene files' medium.phase and --phase):
-  iso                 isotropic, p = 1/(4 pi)
-  hg:G                Henyey-Greenstein, G in (-1, 1) (G > 0: forward)
-  tthg:G1,G2,W        two-term HG, W*HG(G1) + (1-W)*HG(G2); G1, G2 in (-1, 1), W in [0, 1]
-  ff:B,N              Fournier-Forand, backscatter fraction B in (0, 0.5), refractive index N in [1.001, 1.5]
-  draine:G,ALPHA      Draine, G in (-1, 1), ALPHA in [0, 1000]
-  mie:DIAMETER_UM     approximate Mie (Jendersie & d'Eon 2023), droplet diameter in (0, 50] micrometres
-  rayleigh            Rayleigh, p = 3/(16 pi) (1 + cos^2)
-  table:FILE.csv      measured: lines 'angle_deg,value', angles increasing in [0, 180]
-Angles are deflections between propagation directions (0 = straight on).";
+use clap::{Parser, Subcommand};
+use omnee_core::method::Choice;
+use omnee_core::names::Named;
+use omnee_core::phase::PhaseKind;
+use omnee_render::RenderError;
 
 const EXIT_CODES: &str = "\
 Exit codes: 0 success, 1 a file could not be written, 2 bad input (the message names
 the field, its value and the allowed range).";
 
-/// The text after the options: the phase specs, the techniques (from
-/// [`Technique`]'s documentation) and the exit codes.
+/// The text after the options: the phase specs (the core's [`PhaseKind`]s),
+/// the techniques (the core's [`Choice`]s) and the exit codes.
 fn after_help() -> String {
-    let techniques: Vec<String> = Technique::value_variants()
+    let specs: Vec<String> = PhaseKind::ALL
         .iter()
-        .filter_map(ValueEnum::to_possible_value)
-        .map(|v| {
-            let help = v.get_help().map(|h| h.to_string()).unwrap_or_default();
-            format!("  {:<12} {}", v.get_name(), wrap(&help, 80, 15))
-        })
+        .map(|k| format!("  {:<20}{}", k.usage(), k.help()))
+        .collect();
+    let techniques: Vec<String> = Choice::ALL
+        .iter()
+        .map(|t| format!("  {:<12} {}", t.name(), wrap(t.help(), 80, 15)))
         .collect();
     format!(
-        "{PHASE_SPECS}\n\nTechniques for the once-more term (--technique):\n{}\n\n{EXIT_CODES}",
+        "Phase function specs (scene files' medium.phase and --phase):\n{}\n\
+         Angles are deflections between propagation directions (0 = straight on).\n\n\
+         Techniques for the once-more term (--technique):\n{}\n\n{EXIT_CODES}",
+        specs.join("\n"),
         techniques.join("\n")
     )
 }
@@ -97,7 +90,7 @@ enum Command {
 /// A clap error about a value outside a closed set of names, in the CLI's
 /// form: `--technique = "magic" is not a technique; allowed: omnee, ...`
 /// (the noun is the option's value name).
-fn invalid_name(e: &clap::Error) -> Option<CliError> {
+fn invalid_name(e: &clap::Error) -> Option<RenderError> {
     if e.kind() != ErrorKind::InvalidValue {
         return None;
     }
@@ -118,7 +111,7 @@ fn invalid_name(e: &clap::Error) -> Option<CliError> {
     let flag = parts.next().unwrap_or(arg);
     let noun = parts.next().unwrap_or(flag);
     let noun = noun.trim_matches(['<', '>', '[', ']', '.']).to_lowercase();
-    Some(CliError::Input(format!(
+    Some(RenderError::Input(format!(
         "{flag} = \"{value}\" is not a {noun}; allowed: {}",
         valid.join(", ")
     )))
@@ -147,10 +140,15 @@ pub fn run() {
     }
 }
 
-/// Prints `e` and exits with its code.
-fn exit(e: CliError) -> ! {
+/// Prints `e` and exits with its code: 2 for bad input, 1 when a file
+/// could not be written, 130 when cancelled.
+fn exit(e: RenderError) -> ! {
     eprintln!("omnee: error: {e}");
-    std::process::exit(e.exit_code());
+    std::process::exit(match e {
+        RenderError::Input(_) => 2,
+        RenderError::Io(_) => 1,
+        RenderError::Cancelled => 130,
+    });
 }
 
 #[cfg(test)]
@@ -182,11 +180,18 @@ mod tests {
     }
 
     #[test]
-    fn the_help_lists_every_technique_with_its_description() {
+    fn the_help_lists_every_technique_and_phase_function_with_its_description() {
         let h = after_help();
-        for t in Technique::value_variants() {
+        for t in Choice::ALL {
             assert!(h.contains(&format!("  {t} ")), "{t} missing from {h}");
         }
+        for k in PhaseKind::ALL {
+            assert!(
+                h.contains(&format!("  {} ", k.usage())),
+                "{k} missing from {h}"
+            );
+        }
+        assert!(h.contains("  hg:G                Henyey-Greenstein"), "{h}");
         assert!(h.lines().all(|l| l.len() <= 120), "{h}");
     }
 

@@ -38,7 +38,7 @@ pub struct Axis<F: Real> {
     /// Second unit vector perpendicular to `e` (φ = π/2), `b1 × b2 = e`.
     pub b2: F::Vec3,
     /// The power of two `L` near `s` in which lengths are measured where
-    /// their squares or products could leave the range (docs/math.md §14).
+    /// their squares or products could leave the range (docs/math.md §15).
     pub unit: Unit<F>,
     /// `s/L`, exact: `s` itself inside the [`Unit`]'s band, else in
     /// `[1, 2)` (down to 2⁻²³ in f32, 2⁻⁵² in f64 for a subnormal `s`, up to
@@ -48,7 +48,7 @@ pub struct Axis<F: Real> {
 
 /// The length unit of a connection: the power of two `L = 2ᵏ` in which
 /// lengths are measured where their squares, products or inverses could
-/// leave the range (docs/math.md §14).
+/// leave the range (docs/math.md §15).
 ///
 /// `L = 1` for `2⁻ᵇ ≤ s < 2ᵇ⁺¹` with `b = MAX_EXPONENT/16` (7 in f32,
 /// 63 in f64: s from 0.008 to 256 m in f32), where lengths of order `s`,
@@ -72,6 +72,14 @@ pub struct Unit<F> {
 }
 
 impl<F: Real> Unit<F> {
+    /// The band `[2⁻ᵇ, 2ᵇ⁺¹)` of distances `s` whose unit is 1,
+    /// `b = MAX_EXPONENT/16`.
+    #[inline]
+    pub fn band() -> (F, F) {
+        let b = F::MAX_EXPONENT / 16;
+        (F::ONE.scale_pow2(-b), F::ONE.scale_pow2(b + 1))
+    }
+
     /// The unit of a connection of length `s` (finite, > 0; any other `s`
     /// gives the unit 1): 1 inside the band `|⌊log₂ s⌋| ≤ MAX_EXPONENT/16`,
     /// else `k = ⌊log₂ s⌋` clamped to `[MIN_EXPONENT, MAX_EXPONENT − 1]`.
@@ -152,7 +160,7 @@ impl<F: Real> Angles<F> {
 
 impl<F: Real> Axis<F> {
     /// The axis from `x0` to `x2`: any two finite, distinct points whose
-    /// distance `s` is at most `F::MAX` (docs/math.md §14). `s` and `e` are
+    /// distance `s` is at most `F::MAX` (docs/math.md §15). `s` and `e` are
     /// computed on `x2 − x0` in the [`Unit`] of `s` (`(x2 − x0)/L`, an exact
     /// scaling), so neither `s²` nor `1/s` over- or underflows: end points
     /// 1e-45 or 3e38 apart in f32 have their exact axis.

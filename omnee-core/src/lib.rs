@@ -17,6 +17,9 @@
 //!
 //! Modules, one per idea:
 //! - [`real`]: the two precisions (`f32` for renderers, `f64` for references);
+//! - [`bridge`]: bridges of k scattering vertices between `x0` and `x2`
+//!   (rotate-and-scale sampling, the number of vertices, the isotropic
+//!   closed form);
 //! - [`circumcircle`]: the map (θ, β, φ) ↔ x1 and the triangle's measures;
 //! - [`phase`]: phase functions with cancellation-free angles, and tabulated
 //!   inverse CDFs that sample any of them at Henyey–Greenstein's cost;
@@ -25,9 +28,12 @@
 //! - [`lobe`]: a lobe at `x0`: its technique, its MIS with OMNEE, a 3-D reference;
 //! - [`mis`]: multiple importance sampling over any set of techniques, and
 //!   [`mis::OmneeMis`], OMNEE with a companion behind a backward cone;
-//! - [`method`]: the techniques by name ([`method::Method`]) and the
+//! - [`method`]: the techniques by name ([`method::Choice`], with `auto`
+//!   and the lobe combination), [`method::Method`] and the
 //!   [`method::Setup`] that makes one draw (up to two vertices) with any of
 //!   them, for front ends;
+//! - [`names`]: closed sets of names ([`names::Named`]), which every front
+//!   end parses and lists the same way; [`term`]: the light transport terms;
 //! - [`medium`]: homogeneous coefficients and the region the medium fills;
 //! - [`reference`](mod@reference): the point-to-point test problem and its quadrature value;
 //! - [`quadrature`]: the f64 adaptive Gauss–Kronrod rule behind it;
@@ -103,18 +109,21 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod bridge;
 pub mod circumcircle;
 pub mod error;
 pub mod lobe;
 pub mod medium;
 pub mod method;
 pub mod mis;
+pub mod names;
 pub mod phase;
 pub mod quadrature;
 pub mod real;
 pub mod reference;
 pub mod rng;
 pub mod sampling;
+pub mod term;
 
 pub use error::Error;
 pub use real::{Real, Vector};

@@ -1,5 +1,7 @@
-//! The once-more methods a front end chooses between by name, and the
-//! [`Setup`] that makes one [`Draw`] with any of them.
+//! The once-more techniques a front end chooses between by name
+//! ([`Choice`]: the [`Method`]s of a point-to-point connection, the
+//! [`LobeMethod`]s for a lobe at `x0`, and `auto`, [`auto`]), and the
+//! [`Setup`] that makes one [`Draw`] with any [`Method`].
 //!
 //! A renderer's once-more term needs, besides the connection `x0 → x2`
 //! (which changes with every light sample), the phase function at `x1`, how
@@ -29,17 +31,21 @@
 //! ```
 
 use crate::error::{Error, check_closed};
+use crate::lobe::{Lobe, LobeMis, Restricted, WithLobe};
 use crate::medium::Region;
 use crate::mis::OmneeMis;
+use crate::names::Named;
 use crate::phase::PhaseFunction;
 use crate::real::Real;
-use crate::sampling::{Connection, Directions, Distance, Draw, Equiangular, Omnee, Technique};
+use crate::sampling::{
+    Connection, Directions, Distance, Draw, Equiangular, Omnee, Sample, Technique,
+};
 use core::fmt;
 use core::str::FromStr;
 
-/// A technique for the once-more vertex `x1`, chosen by name: the closed
-/// set a front end offers (command-line options, scene files, the browser
-/// demo, benchmarks).
+/// A technique for the once-more vertex `x1` of a point-to-point
+/// connection: what [`Setup`] draws. Front ends name them through
+/// [`Choice`], which adds the lobe combination and `auto`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Method {
     /// OMNEE ([`Omnee`]): θ from the phase function, then the circumcircle
@@ -73,13 +79,19 @@ impl Method {
     /// The names of [`Method::ALL`], as an error message lists them.
     pub const ALLOWED: &'static str = "omnee, equiangular, distance, mis";
 
-    /// The method's name: `omnee`, `equiangular`, `distance` or `mis`.
+    /// The method's name, its [`Choice`]'s: `omnee`, `equiangular`,
+    /// `distance` or `mis`.
     pub const fn name(self) -> &'static str {
+        self.choice().name()
+    }
+
+    /// The [`Choice`] that names this method.
+    pub const fn choice(self) -> Choice {
         match self {
-            Method::Omnee => "omnee",
-            Method::Equiangular => "equiangular",
-            Method::Distance => "distance",
-            Method::Mis => "mis",
+            Method::Omnee => Choice::Omnee,
+            Method::Equiangular => Choice::Equiangular,
+            Method::Distance => Choice::Distance,
+            Method::Mis => Choice::Mis,
         }
     }
 
@@ -87,9 +99,8 @@ impl Method {
     /// [`Error::Syntax`] for field `technique` that lists the allowed names
     /// otherwise.
     pub fn from_name(name: &str) -> Result<Self, Error> {
-        Self::ALL
-            .into_iter()
-            .find(|m| m.name() == name)
+        Choice::from_name(name)
+            .and_then(Choice::method)
             .ok_or(Error::Syntax {
                 field: "technique",
                 reason: "unknown name; allowed: omnee, equiangular, distance, mis",
@@ -110,6 +121,284 @@ impl fmt::Display for Method {
     /// [`Method::name`].
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
+    }
+}
+
+/// A technique for the once-more vertex as a front end names it (the
+/// command line's `--technique`, a scene's `render.technique`, the
+/// bindings): one of the [`Method`]s, the combination for a lobe at `x0`
+/// ([`LobeMethod::LobeMis`]), or `auto`, which picks a method from the
+/// medium ([`auto`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Choice {
+    /// [`Method::Omnee`] (with a lobe at `x0`: [`LobeMethod::Omnee`]).
+    Omnee,
+    /// [`Method::Equiangular`].
+    Equiangular,
+    /// [`Method::Distance`].
+    Distance,
+    /// [`Method::Mis`] (with a lobe at `x0`: [`LobeMethod::LobeMis`]).
+    Mis,
+    /// [`LobeMethod::LobeMis`]: OMNEE and the lobe technique, one-sample MIS.
+    LobeMis,
+    /// The method [`auto`] picks (with a lobe at `x0`: [`LobeMethod::LobeMis`]).
+    Auto,
+}
+
+impl Named for Choice {
+    const ALL: &'static [Self] = &[
+        Choice::Omnee,
+        Choice::Equiangular,
+        Choice::Distance,
+        Choice::Mis,
+        Choice::LobeMis,
+        Choice::Auto,
+    ];
+
+    fn name(self) -> &'static str {
+        Choice::name(self)
+    }
+
+    fn help(self) -> &'static str {
+        match self {
+            Choice::Omnee => {
+                "the deflection from the phase function, then x1 on the circumcircle arc"
+            }
+            Choice::Equiangular => {
+                "a direction from the receiver, then the distance equiangular towards the light"
+            }
+            Choice::Distance => {
+                "a direction from the receiver, then an exponential free-flight distance"
+            }
+            Choice::Mis => {
+                "OMNEE over the whole range, and for 5 % of the connections one more, equiangular, vertex kept behind theta = 3 pi/4 (multi-sample MIS, balance heuristic there)"
+            }
+            Choice::LobeMis => {
+                "with a lobe at x0: OMNEE and the lobe technique (a direction from the lobe, then a distance), one-sample balance MIS"
+            }
+            Choice::Auto => {
+                "OMNEE, or mis in a thin medium with a broad phase function; says what it picked and why"
+            }
+        }
+    }
+}
+
+crate::display_by_name!(Choice);
+
+impl From<Method> for Choice {
+    fn from(method: Method) -> Self {
+        method.choice()
+    }
+}
+
+impl From<LobeMethod> for Choice {
+    fn from(method: LobeMethod) -> Self {
+        match method {
+            LobeMethod::Omnee => Choice::Omnee,
+            LobeMethod::LobeMis => Choice::LobeMis,
+        }
+    }
+}
+
+impl Choice {
+    /// The choice's name (its [`Named::name`], usable in constants).
+    pub const fn name(self) -> &'static str {
+        match self {
+            Choice::Omnee => "omnee",
+            Choice::Equiangular => "equiangular",
+            Choice::Distance => "distance",
+            Choice::Mis => "mis",
+            Choice::LobeMis => "lobe-mis",
+            Choice::Auto => "auto",
+        }
+    }
+
+    /// The [`Method`] of this name (`None` for `lobe-mis` and `auto`).
+    pub fn method(self) -> Option<Method> {
+        match self {
+            Choice::Omnee => Some(Method::Omnee),
+            Choice::Equiangular => Some(Method::Equiangular),
+            Choice::Distance => Some(Method::Distance),
+            Choice::Mis => Some(Method::Mis),
+            Choice::LobeMis | Choice::Auto => None,
+        }
+    }
+
+    /// The method for a connection without a lobe at `x0`: the named one,
+    /// or for `auto` the one [`auto`] picks for mean cosine `g` and optical
+    /// thickness `tau`, with its reason; `None` for `lobe-mis`.
+    pub fn resolve(self, g: f64, tau: f64) -> Option<(Method, Option<AutoReason>)> {
+        match self {
+            Choice::Auto => {
+                let (method, reason) = auto(g, tau);
+                Some((method, Some(reason)))
+            }
+            named => named.method().map(|m| (m, None)),
+        }
+    }
+
+    /// The technique with a lobe at `x0`: `omnee` is OMNEE with the lobe in
+    /// its weight, `mis`, `lobe-mis` and `auto` the recommended combination
+    /// with the lobe technique; `None` for the ray methods (`equiangular`,
+    /// `distance`), which have no lobe form.
+    pub fn lobe_method(self) -> Option<LobeMethod> {
+        match self {
+            Choice::Omnee => Some(LobeMethod::Omnee),
+            Choice::Mis | Choice::LobeMis | Choice::Auto => Some(LobeMethod::LobeMis),
+            Choice::Equiangular | Choice::Distance => None,
+        }
+    }
+}
+
+/// The optical thickness below which [`auto`] adds equiangular sampling
+/// behind the backward cone for broad phase functions.
+pub const AUTO_THIN: f64 = 0.2;
+
+/// The mean cosine from which [`auto`] calls a phase function
+/// forward-peaked.
+pub const AUTO_PEAKED: f64 = 0.3;
+
+/// Why [`auto`] picked its method: the quantities it looked at, printed as
+/// a sentence.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AutoReason {
+    /// `g ≥` [`AUTO_PEAKED`]: OMNEE.
+    ForwardPeaked {
+        /// The mean cosine.
+        g: f64,
+    },
+    /// `τ ≥` [`AUTO_THIN`]: OMNEE.
+    Attenuating {
+        /// The mean cosine.
+        g: f64,
+        /// The optical thickness.
+        tau: f64,
+    },
+    /// Thin and broad: [`Method::Mis`].
+    ThinAndBroad {
+        /// The mean cosine.
+        g: f64,
+        /// The optical thickness.
+        tau: f64,
+    },
+}
+
+impl fmt::Display for AutoReason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            AutoReason::ForwardPeaked { g } => write!(
+                f,
+                "the phase function is forward-peaked (mean cosine {g:.3} >= {AUTO_PEAKED}): OMNEE draws the \
+                 deflection from it, and its weight theta/(s sin theta) stays near 1/s"
+            ),
+            AutoReason::Attenuating { g, tau } => write!(
+                f,
+                "the medium attenuates along a typical connection (tau = {tau:.3} >= {AUTO_THIN}): attenuation \
+                 bounds OMNEE's weight theta/(s sin theta) for backward deflections (mean cosine {g:.3})"
+            ),
+            AutoReason::ThinAndBroad { g, tau } => write!(
+                f,
+                "the medium is optically thin (tau = {tau:.3} < {AUTO_THIN}) and the phase function not \
+                 forward-peaked (mean cosine {g:.3}): OMNEE's weight grows like 1/(pi - theta) unchecked, so \
+                 equiangular sampling joins it behind theta = 3 pi/4"
+            ),
+        }
+    }
+}
+
+/// `auto`: OMNEE over the whole range, unless the medium barely attenuates
+/// (`tau = σt · distance` of a typical connection below [`AUTO_THIN`]) and
+/// the phase function is not forward-peaked (mean cosine `g` below
+/// [`AUTO_PEAKED`]); then [`Method::Mis`]. OMNEE's weight θ/(s sin θ) is
+/// bounded by attenuation behind the cone (its variance grows like ln(1/τ)
+/// as τ → 0, docs/math.md §3.4) and is near 1/s for a forward peak;
+/// equiangular sampling alone is never chosen, its variance is infinite for
+/// a point-like `x0` (the weight grows like 1/D as the ray passes `x0`).
+pub fn auto(g: f64, tau: f64) -> (Method, AutoReason) {
+    if g >= AUTO_PEAKED {
+        (Method::Omnee, AutoReason::ForwardPeaked { g })
+    } else if tau >= AUTO_THIN {
+        (Method::Omnee, AutoReason::Attenuating { g, tau })
+    } else {
+        (Method::Mis, AutoReason::ThinAndBroad { g, tau })
+    }
+}
+
+/// A technique for `x1` when the light leaving `x0` follows a lobe (a phase
+/// function about an incoming direction, docs/math.md §12): what
+/// [`LobeMethod::technique`] builds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum LobeMethod {
+    /// OMNEE alone, the lobe's value at `x1` in its weight ([`WithLobe`]).
+    Omnee,
+    /// The recommended combination ([`LobeMis::recommended`]): OMNEE and the
+    /// lobe technique (a direction from the lobe, then a distance along
+    /// it), one-sample balance heuristic.
+    LobeMis,
+}
+
+impl LobeMethod {
+    /// The technique for `connection` with `lobe` at its `x0` and `phase`
+    /// at `x1`.
+    pub fn technique<F: Real, L: Lobe<F> + Copy, P: Restricted<F> + Copy>(
+        self,
+        connection: Connection<F>,
+        lobe: L,
+        phase: P,
+    ) -> LobeTechnique<F, L, P> {
+        match self {
+            LobeMethod::Omnee => LobeTechnique::Omnee(WithLobe::new(
+                Omnee::new(connection, phase),
+                lobe,
+                connection.axis.x0,
+            )),
+            LobeMethod::LobeMis => {
+                LobeTechnique::LobeMis(LobeMis::recommended(connection, lobe, phase))
+            }
+        }
+    }
+}
+
+/// The technique of a [`LobeMethod`], dispatching to its own.
+#[derive(Clone, Copy, Debug)]
+pub enum LobeTechnique<F: Real, L, P> {
+    /// [`LobeMethod::Omnee`].
+    Omnee(WithLobe<F, Omnee<F, P>, L>),
+    /// [`LobeMethod::LobeMis`].
+    LobeMis(LobeMis<F, L, P>),
+}
+
+impl<F: Real, L: Lobe<F> + Copy, P: Restricted<F> + Copy> LobeTechnique<F, L, P> {
+    /// The probability `c` with which a draw takes the lobe technique (0 for
+    /// OMNEE with the lobe in its weight).
+    pub fn lobe_probability(&self) -> F {
+        match self {
+            LobeTechnique::Omnee(_) => F::ZERO,
+            LobeTechnique::LobeMis(t) => t.probability(),
+        }
+    }
+}
+
+impl<F: Real, L: Lobe<F> + Copy, P: Restricted<F> + Copy> Technique<F> for LobeTechnique<F, L, P> {
+    fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
+        match self {
+            LobeTechnique::Omnee(t) => t.sample(u),
+            LobeTechnique::LobeMis(t) => t.sample(u),
+        }
+    }
+
+    fn pdf(&self, x1: F::Vec3) -> F {
+        match self {
+            LobeTechnique::Omnee(t) => t.pdf(x1),
+            LobeTechnique::LobeMis(t) => t.pdf(x1),
+        }
+    }
+
+    fn invert(&self, x1: F::Vec3) -> Option<[F; 3]> {
+        match self {
+            LobeTechnique::Omnee(t) => t.invert(x1),
+            LobeTechnique::LobeMis(t) => t.invert(x1),
+        }
     }
 }
 
@@ -279,6 +568,42 @@ mod tests {
                 "{bad:?}: {message}"
             );
         }
+    }
+
+    #[test]
+    fn choices_name_every_method_once_and_resolve_to_them() {
+        assert_eq!(
+            std::format!("{}", Choice::allowed()),
+            "omnee, equiangular, distance, mis, lobe-mis, auto"
+        );
+        for m in Method::ALL {
+            assert_eq!(Choice::from(m).method(), Some(m));
+            assert_eq!(Choice::from(m).resolve(0.0, 0.0), Some((m, None)));
+        }
+        assert_eq!(Choice::LobeMis.resolve(0.9, 1.0), None);
+        assert_eq!(Choice::Auto.lobe_method(), Some(LobeMethod::LobeMis));
+        assert_eq!(Choice::Omnee.lobe_method(), Some(LobeMethod::Omnee));
+        assert_eq!(Choice::Distance.lobe_method(), None);
+        for m in [LobeMethod::Omnee, LobeMethod::LobeMis] {
+            assert_eq!(Choice::from(m).lobe_method(), Some(m));
+        }
+    }
+
+    #[test]
+    fn auto_picks_omnee_unless_thin_and_broad() {
+        let pick = |g, tau| Choice::Auto.resolve(g, tau).unwrap();
+        assert_eq!(pick(0.9, 0.01).0, Method::Omnee);
+        assert_eq!(pick(0.0, 1.0).0, Method::Omnee);
+        let (method, reason) = pick(0.0, 0.01);
+        assert_eq!(method, Method::Mis);
+        let text = std::format!("{}", reason.unwrap());
+        assert!(
+            text.contains("optically thin (tau = 0.010 < 0.2)"),
+            "{text}"
+        );
+        assert!(
+            std::format!("{}", pick(0.9, 0.01).1.unwrap()).contains("mean cosine 0.900 >= 0.3")
+        );
     }
 
     #[test]

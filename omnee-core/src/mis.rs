@@ -328,7 +328,7 @@ impl<'a, F: Real, P: PhaseFunction<F>> OmneeMis<'a, F, P> {
 
     /// A vertex of the technique drawn `count` times on average with its
     /// own density `own` and the other's `count · pdf` at its point, both
-    /// per `L³` of the connection's unit (docs/math.md §14): weight
+    /// per `L³` of the connection's unit (docs/math.md §15): weight
     /// `k/(p_O + c p_C)`, the balance heuristic over the expected counts,
     /// and that sum as its pdf (in m⁻³).
     #[inline]

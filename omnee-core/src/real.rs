@@ -152,7 +152,7 @@ pub trait Real:
     fn is_nan(self) -> bool;
     /// `self · 2ⁿ`, exact unless the result is subnormal or overflows, where
     /// it is rounded once (C's `scalbn`): the scaling that moves a length
-    /// into a connection's unit and a density back (docs/math.md §14).
+    /// into a connection's unit and a density back (docs/math.md §15).
     fn scale_pow2(self, n: i32) -> Self;
     /// The exponent `k` with `2ᵏ ≤ |x| < 2ᵏ⁺¹` of a finite non-zero `x`,
     /// subnormals included (C's `ilogb`); unspecified for 0, ∞ and NaN.
@@ -502,7 +502,7 @@ fn estrin5(c: &[f64; 6], z: f64) -> f64 {
 /// the rounding of π/2 (6e-17), which is below 1.4e-9 of any `y` an f32 `x`
 /// can give.
 #[inline(always)]
-fn sin_cos_acute_f64(x: f64) -> (f64, f64) {
+pub(crate) fn sin_cos_acute_f64(x: f64) -> (f64, f64) {
     let y = core::f64::consts::FRAC_PI_2 - x.abs();
     (
         x * estrin5(&SIN_ACUTE, x * x),
@@ -748,7 +748,7 @@ pub fn sinc_is_series<F: Real>(x: F) -> bool {
 
 /// `1 − x²/6 + x⁴/120`.
 #[inline]
-fn sinc_series<F: Real>(x: F) -> F {
+pub(crate) fn sinc_series<F: Real>(x: F) -> F {
     let x2 = x * x;
     F::ONE - x2 * (F::from_f64(1.0 / 6.0) - x2 * F::from_f64(1.0 / 120.0))
 }

@@ -66,7 +66,7 @@ impl<F: Real> PointToPoint<F> {
     /// `f_c(x1) = σs e^{−σt (d1 + d2)} [max(0, n·(x1 − x2)/d2)]`,
     /// with `d1`, `d2` in the connection's unit `L` and `σt L` per unit
     /// (the same optical depth), so that neither the distances nor their
-    /// squares leave the range at any scale (docs/math.md §14).
+    /// squares leave the range at any scale (docs/math.md §15).
     #[inline]
     pub fn f_c(&self, x1: F::Vec3) -> F {
         let axis = &self.connection.axis;

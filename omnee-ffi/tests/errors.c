@@ -231,7 +231,7 @@ int main(void) {
          "directions", "directions = 7 is out of range; allowed: 0 (sphere) or 1 (cosine)");
   rays.directions = OMNEE_DIRECTIONS_COSINE; /* normal (0, 0, 0) */
   EXPECT(omnee_equiangular_pdf_f32(&c, &hg, &rays, x0, &value, &e), OMNEE_ERROR_DEGENERATE,
-         "normal", "normal: must be non-zero");
+         "normal", "normal: must be finite and non-zero");
   rays.directions = OMNEE_DIRECTIONS_SPHERE;
   rays.region = OMNEE_REGION_SLAB;
   rays.z_min = 1.0f, rays.z_max = 1.0f;
@@ -306,7 +306,7 @@ int main(void) {
     EXPECT(omnee_problem_init_f32(&problem, &c, 0.5f, INFINITY, NULL, &e),
            OMNEE_ERROR_OUT_OF_RANGE, "sigma_a", "sigma_a = inf is out of range; allowed: [0, inf)");
     EXPECT(omnee_problem_init_f32(&problem, &c, 0.5f, 0.0f, &zero3, &e), OMNEE_ERROR_DEGENERATE,
-           "receiver_normal", "receiver_normal: must be non-zero");
+           "receiver_normal", "receiver_normal: must be finite and non-zero");
     EXPECT(omnee_problem_init_f32(&problem, NULL, 0.5f, 0.0f, NULL, &e), OMNEE_ERROR_NULL,
            "connection", "connection: null pointer");
     /* With no extinction, exp(-0 · ∞) would be NaN: the transmittance is 1 at

@@ -1,8 +1,8 @@
-//! The errors of the core and of the CLI's validation as Python exceptions:
+//! The errors of the core and of the library's validation as Python exceptions:
 //! bad input is a `ValueError` whose message names the field, its value and
 //! the allowed range (the Rust error's text, unchanged).
 
-use omnee_cli::error::CliError;
+use omnee_render::RenderError;
 use pyo3::PyErr;
 use pyo3::exceptions::{PyOSError, PyValueError};
 
@@ -11,11 +11,13 @@ pub fn core(e: omnee_core::Error) -> PyErr {
     PyValueError::new_err(e.to_string())
 }
 
-/// The CLI's validation: bad input is a `ValueError`, a file that cannot be
-/// read (a `table:` phase function) an `OSError`.
-pub fn cli(e: CliError) -> PyErr {
+/// The library's validation: bad input is a `ValueError`, a file that
+/// cannot be read (a `table:` phase function) an `OSError`, a cancelled
+/// computation `KeyboardInterrupt`.
+pub fn render(e: RenderError) -> PyErr {
     match e {
-        CliError::Input(m) => PyValueError::new_err(m),
-        CliError::Io(m) => PyOSError::new_err(m),
+        RenderError::Input(m) => PyValueError::new_err(m),
+        RenderError::Io(m) => PyOSError::new_err(m),
+        RenderError::Cancelled => pyo3::exceptions::PyKeyboardInterrupt::new_err("cancelled"),
     }
 }

@@ -15,7 +15,7 @@ import { chromium } from 'playwright-core';
 const here = dirname(fileURLToPath(import.meta.url));
 const web = join(here, '..', 'web');
 const out = join(here, 'out');
-const MIN_RATE = 1e6; // samples per second (issue 5)
+const MIN_RATE = 1e6; // samples per second the demo must reach
 
 // The fixed cases of the native and browser tests (tests/common/mod.rs) and their native
 // results (tests/common/fixture.rs), read from the Rust sources: the optimised module
@@ -236,7 +236,7 @@ try {
   await page.locator('#tilt').fill('1');
   const at1 = await page.evaluate(() => [window.omnee.state.tilt, window.omnee.state.reference, window.omnee.state.demo.estimate('omnee').count]);
   check(at1[0] === 1 && at1[1] === hg09[10] && at1[2] < 1e6, `tilt 1: the table's reference ${hg09[10]}, estimates restarted`);
-  // Issue 15's water lobe, g = 0.98 (the g slider), at tilt 0.5: OMNEE alone is far noisier.
+  // The water lobe of docs/math.md §12.4, g = 0.98 (the g slider), at tilt 0.5: OMNEE alone is far noisier.
   await page.locator('#g').fill('0.98');
   await page.locator('#tilt').fill('0.5');
   const ref98 = await page.evaluate(() => window.omnee.state.reference);

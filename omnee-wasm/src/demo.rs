@@ -17,7 +17,7 @@
 //! sample cloud, the phase histogram, the waterlevel and arc geometry), each a
 //! handful of short functions that [`crate::bindings`] exposes one to one.
 
-use crate::phase::{Analytic, Spec};
+use crate::phase::DemoPhase;
 use crate::rng::Pcg32;
 use alloc::vec;
 use alloc::vec::Vec;
@@ -168,11 +168,11 @@ fn plane_point(p: [f64; 2]) -> Vec3 {
 }
 
 /// The phase function's lobe at `x0`.
-type Lobe = PhaseLobe<f64, Analytic<f64>>;
+type Lobe = PhaseLobe<f64, DemoPhase<f64>>;
 
 /// The recommended combination with a lobe at `x0`, which also holds its two
 /// techniques: OMNEE with the lobe in its weight and the lobe technique.
-type Lobed = LobeMis<f64, Lobe, Analytic<f64>>;
+type Lobed = LobeMis<f64, Lobe, DemoPhase<f64>>;
 
 /// The point-to-point problem of `omnee_core::reference` in the demo plane,
 /// optionally with a lobe at `x0` (`omnee_core::lobe`), with running
@@ -180,7 +180,7 @@ type Lobed = LobeMis<f64, Lobe, Analytic<f64>>;
 /// all [`TECHNIQUES`].
 #[derive(Clone, Debug)]
 pub struct Problem {
-    phase: Analytic<f64>,
+    phase: DemoPhase<f64>,
     problem: PointToPoint<f64>,
     lobe: Option<Lobed>,
     reference: f64,
@@ -198,7 +198,7 @@ impl Problem {
     /// With `tilt` (radians, in `[0, π]`) a lobe at `x0`: the same phase
     /// function, for light arriving at `x0` along the axis `x0 → x2` turned
     /// by `tilt` in the plane (counter-clockwise; 0: the light continues
-    /// towards `x2`, π: it arrives from `x2`), as in the table of issue 15
+    /// towards `x2`, π: it arrives from `x2`), as in the table of docs/math.md §12.4
     /// (g0 = g1). Without a lobe the 2-D quadrature reference is computed
     /// here (milliseconds); with one the reference is the 3-D quadrature
     /// `LobeToPoint::integral` (seconds natively), which the module does not
@@ -239,7 +239,7 @@ impl Problem {
     }
 
     /// `PointToPoint::integral` with θmax capped at [`REFERENCE_THETA_MAX`].
-    fn plain_reference(problem: &PointToPoint<f64>, phase: &Analytic<f64>) -> f64 {
+    fn plain_reference(problem: &PointToPoint<f64>, phase: &DemoPhase<f64>) -> f64 {
         let mut capped = *problem;
         capped.connection.theta_max = capped.connection.theta_max.min(REFERENCE_THETA_MAX);
         capped.integral(phase)
@@ -419,7 +419,7 @@ fn incoming(connection: &Connection<f64>, tilt: f64) -> Result<Vec3, Error> {
 /// not offer (`Setup::draw` made the module 2.5 KiB larger).
 #[inline(never)]
 fn draw(
-    phase: &Analytic<f64>,
+    phase: &DemoPhase<f64>,
     problem: &PointToPoint<f64>,
     lobe: Option<&Lobed>,
     technique: Technique,
@@ -553,8 +553,8 @@ pub fn quantile(spec: &str, u: f64) -> Result<f64, Error> {
 /// The phase function of `spec` (the module's one copy of parsing and
 /// building a spec).
 #[inline(never)]
-fn phase(spec: &str) -> Result<Analytic<f64>, Error> {
-    Spec::parse(spec)?.build::<f64>()
+fn phase(spec: &str) -> Result<DemoPhase<f64>, Error> {
+    crate::phase::build::<f64>(spec)
 }
 
 /// The mean cosine ⟨cos θ⟩ of the phase function `spec`.

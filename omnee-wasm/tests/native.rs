@@ -425,13 +425,12 @@ const SPECS: &[&str] = &[
     "hg:\u{e9}",
 ];
 
-/// The demo's reading of `spec` and the core's `Spec::parse`, as `Debug`
-/// strings (so that NaN values in errors compare equal).
+/// The demo's reading of `spec` (the core's grammar with the demo's number
+/// reader) and the core's `Spec::parse`, as `Debug` strings (so that NaN
+/// values in errors compare equal).
 fn demo_and_core<F: omnee_core::real::Real>(spec: &str) -> (String, String) {
     use omnee_core::phase::Spec as Core;
-    let demo = omnee_wasm::phase::Spec::parse(spec)
-        .and_then(|s| s.build::<F>())
-        .map(omnee_core::phase::Phase::from);
+    let demo = omnee_wasm::phase::build::<F>(spec);
     let core = match Core::<F>::parse(spec) {
         Ok(Core::Analytic(phase)) => Ok(phase),
         Ok(Core::Table { .. }) => Err(omnee_core::Error::Syntax {
@@ -468,9 +467,7 @@ fn quantile_inverts_the_cdf_of_every_phase_function() {
         "mie:10",
         "mie:0.5",
     ] {
-        let phase = omnee_wasm::phase::Spec::parse(spec)
-            .and_then(|s| s.build::<f64>())
-            .unwrap();
+        let phase = omnee_wasm::phase::build::<f64>(spec).unwrap();
         for u in [0.0, 1e-6, 0.1, 0.5, 0.9, 0.995, 0.999_999] {
             let theta = demo::quantile(spec, u).unwrap();
             assert!((0.0..=PI).contains(&theta), "{spec} {u}: {theta}");
@@ -609,7 +606,7 @@ fn tilted_estimates_agree_with_the_three_dimensional_reference() {
     // Means of bounded (OMNEE: p0 ≤ its peak) or well-behaved estimates
     // within 5 standard errors: fails with probability < 1e-6 each under
     // the normal approximation. The lobe technique alone and equiangular
-    // sampling have heavy tails here (issue 15's table): only finite.
+    // sampling have heavy tails here (docs/math.md §12.4's table): only finite.
     for t in TECHNIQUES {
         let s = p.stats(t).unwrap();
         assert_eq!(s.count(), u64::from(n));

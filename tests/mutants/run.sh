@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Mutation check of the property suite (issue 6): applies each patch in
+# Mutation check of the property suite: applies each patch in
 # tests/mutants/patches to the working tree, runs the root suite
 # (`cargo test -p omnee --test suite`) and the core's own tests
 # (`cargo test -p omnee-core`), records which tests fail, and reverts.

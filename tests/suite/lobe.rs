@@ -1,4 +1,4 @@
-//! The lobe at `x0` (issue 15, docs/math.md §12): χ² of the lobe technique
+//! The lobe at `x0` (docs/math.md §12): χ² of the lobe technique
 //! and the combination against their pdfs, the pdf against the Jacobian of
 //! the sample map, sample → invert, unbiasedness of every technique against
 //! the 3-D quadrature reference, and f32 against f64 at extreme inputs.

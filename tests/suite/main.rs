@@ -1,4 +1,4 @@
-//! The workspace-wide verification suite of omnee (issue 6): χ² goodness of
+//! The workspace-wide verification suite of omnee: χ² goodness of
 //! fit of every sampler, proptest properties, numerical stability at extreme
 //! inputs, and unbiasedness against the quadrature reference.
 //!
@@ -10,7 +10,9 @@
 //! HG's sign convention, constants off, ...) and records which of these
 //! tests fail; `tests/mutants/README.md` has the table.
 
+mod bridge;
 mod chi2;
+mod connections;
 mod harness;
 mod lobe;
 mod properties;

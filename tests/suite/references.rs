@@ -1,6 +1,6 @@
 //! References with a bounded cost: the point-to-point quadrature with a
 //! receiver normal converges for every normal and θmax up to π within its
-//! evaluation budget (docs/math.md §5.3, §5.4) and agrees with an
+//! evaluation budget (docs/math.md §5.3, §15.5) and agrees with an
 //! independent Monte Carlo estimate; a quadrature that cannot converge in
 //! its budget says so (`Error::NotConverged`) instead of running on.
 

@@ -1,4 +1,4 @@
-//! Scale (docs/math.md §14): every finite, non-zero geometry is accepted in
+//! Scale (docs/math.md §15): every finite, non-zero geometry is accepted in
 //! f32 and f64 and gives the answer of the same problem at unit scale,
 //! scaled.
 //!

@@ -1,7 +1,10 @@
-//! Option parsers (for clap's `value_parser`) and checks that several
+//! Option parsers (for clap's `value_parser`) and the options that several
 //! subcommands share.
 
-use crate::error::{CliError, Result};
+use crate::named::closed;
+use clap::Args;
+use omnee_core::method::Choice;
+use omnee_render::point::problem::{Precision, Problem};
 
 /// `X,Y,Z` with finite components.
 pub fn parse_vec3(s: &str) -> std::result::Result<[f64; 3], String> {
@@ -49,25 +52,66 @@ pub fn parse_u32x4(s: &str) -> std::result::Result<[u32; 4], String> {
     Ok(v)
 }
 
-/// A number of samples or draws in `[1, 2^40]`.
-pub fn check_count(field: &str, n: u64) -> Result<u64> {
-    if (1..=1u64 << 40).contains(&n) {
-        Ok(n)
-    } else {
-        Err(CliError::range(field, n, "[1, 2^40]"))
-    }
+/// The options that state the point-to-point problem of `estimate` and
+/// `samples` (the library's [`Problem`]).
+#[derive(Args, Debug)]
+pub struct ProblemArgs {
+    /// The unit-intensity point light x0 = X,Y,Z.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub x0: [f64; 3],
+    /// The point receiver x2 = X,Y,Z.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub x2: [f64; 3],
+    /// Phase function spec (see below).
+    #[arg(long, default_value = "iso")]
+    pub phase: String,
+    /// Scattering coefficient (1/m).
+    #[arg(long, allow_hyphen_values = true)]
+    pub sigma_s: f64,
+    /// Extinction coefficient (1/m), at least sigma-s.
+    #[arg(long, allow_hyphen_values = true)]
+    pub sigma_t: f64,
+    /// The integrand is restricted to theta < THETA_MAX (radians, (0, pi]).
+    #[arg(long, allow_hyphen_values = true, default_value_t = std::f64::consts::PI)]
+    pub theta_max: f64,
+    /// A receiver cosine max(0, n . (x1 - x2)/d2) about this normal.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub receiver_normal: Option<[f64; 3]>,
+    /// Technique for x1.
+    #[arg(long, value_parser = closed::<Choice>(), default_value = "auto")]
+    pub technique: Choice,
+    /// Random seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Arithmetic precision of the techniques.
+    #[arg(long, value_parser = closed::<Precision>(), default_value = "f32")]
+    pub precision: Precision,
+    /// Phase function at x0 (a scattering vertex): light arriving along --x0-incoming leaves x0 with this lobe [spec as --phase]
+    #[arg(long)]
+    pub x0_phase: Option<String>,
+    /// Propagation direction X,Y,Z of the light arriving at x0 (normalised here)
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub x0_incoming: Option<[f64; 3]>,
 }
 
-/// `n / |n|`, naming `field` when `n` is zero.
-pub fn unit_normal(field: &str, n: [f64; 3]) -> Result<[f64; 3]> {
-    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-    if !(len > 0.0) {
-        return Err(CliError::Input(format!(
-            "{field} = {},{},{} has zero length; allowed: any non-zero vector",
-            n[0], n[1], n[2]
-        )));
+impl ProblemArgs {
+    /// The problem these options state.
+    pub fn problem(&self) -> Problem {
+        Problem {
+            x0: self.x0,
+            x2: self.x2,
+            phase: self.phase.clone(),
+            sigma_s: self.sigma_s,
+            sigma_t: self.sigma_t,
+            theta_max: self.theta_max,
+            receiver_normal: self.receiver_normal,
+            technique: self.technique,
+            seed: self.seed,
+            precision: self.precision,
+            x0_phase: self.x0_phase.clone(),
+            x0_incoming: self.x0_incoming,
+        }
     }
-    Ok([n[0] / len, n[1] / len, n[2] / len])
 }
 
 #[cfg(test)]
@@ -83,7 +127,5 @@ mod tests {
         assert!(parse_resolution("0x48").unwrap_err().contains("[1, 16384]"));
         assert_eq!(parse_u32x4("0,1,2,3"), Ok([0, 1, 2, 3]));
         assert!(parse_u32x4("0,1,2,-3").is_err());
-        assert!(check_count("--samples", 0).is_err() && check_count("--samples", 1).is_ok());
-        assert_eq!(unit_normal("n", [0.0, 0.0, 2.0]).unwrap(), [0.0, 0.0, 1.0]);
     }
 }

@@ -1,11 +1,11 @@
 //! `omnee merge`: sums EXR files rendered with disjoint `--crop` windows of
 //! one image into the full image.
 
-use crate::error::{CliError, Result};
-use crate::image::{self, Layers};
-use crate::output::{check_output, with_ext};
-use crate::range::Range;
 use clap::Args;
+use omnee_render::files::{check_output, read_exr, with_ext, write_exr, write_png};
+use omnee_render::image::{Layers, tone_map};
+use omnee_render::range::Range;
+use omnee_render::{RenderError, Result};
 use std::path::PathBuf;
 
 /// The options of `omnee merge`.
@@ -33,12 +33,12 @@ pub fn run(a: MergeArgs) -> Result<()> {
         .transpose()?;
     let mut total: Option<Layers> = None;
     for p in &a.inputs {
-        let img = image::read_exr(p)?;
+        let img = read_exr(p)?;
         match &mut total {
             None => total = Some(img),
             Some(t) if t.same_shape(&img) => t.add(&img),
             Some(t) => {
-                return Err(CliError::Input(format!(
+                return Err(RenderError::Input(format!(
                     "{}: {}x{} with layers [{}] does not match the first input's {}x{} with [{}]; allowed: crops of one render",
                     p.display(),
                     img.width,
@@ -51,10 +51,14 @@ pub fn run(a: MergeArgs) -> Result<()> {
             }
         }
     }
-    let total = total.expect("clap requires at least one input");
-    let (srgb, ev) = image::tone_map(total.get("").unwrap_or(&[]), exposure);
-    image::write_exr(&exr_path, &total)?;
-    image::write_png(&png_path, total.width, total.height, &srgb)?;
+    let Some(total) = total else {
+        return Err(RenderError::Input(
+            "no input files; allowed: one or more EXR files".into(),
+        ));
+    };
+    let (srgb, ev) = tone_map(total.get("").unwrap_or(&[]), exposure);
+    write_exr(&exr_path, &total)?;
+    write_png(&png_path, total.width, total.height, &srgb)?;
     println!(
         "wrote {} and {} (exposure {ev:+.2} stops)",
         exr_path.display(),

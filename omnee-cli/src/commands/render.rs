@@ -1,52 +1,91 @@
-//! `omnee render`: the scene seen by the pinhole camera, each transport
-//! term in its own EXR layer, written to `BASE.exr` and a tone-mapped
-//! `BASE.png`.
+//! `omnee render`: a scene (the slab scene by default, or the underwater
+//! one) seen by its camera, each transport term in its own EXR layer,
+//! written to `BASE.exr` and a tone-mapped `BASE.png`. The options override
+//! the scene's `[render]` and `[camera]` settings; the library checks and
+//! renders ([`omnee_render::scenes::Scene::render`]).
 
 use super::args::{parse_resolution, parse_u32x4};
-use crate::camera::Pinhole;
-use crate::error::{CliError, Result};
-use crate::image::{self, Layers};
-use crate::output::{check_output, with_ext};
-use crate::parallel::with_threads;
-use crate::phase::{PhaseSampling, TableStorage};
-use crate::range::Range;
-use crate::render::budget::Budget;
-use crate::render::{self, Rendered};
-use crate::scene::{self, Scene};
-use crate::technique::{self, Choice, OnceMore, Technique};
-use crate::term::Term;
-use crate::world::World;
-use crate::world::camera_ray::Transport;
-use clap::{Args, ValueEnum};
-use omnee_core::phase::PhaseFunction;
+use super::probe::parse_source;
+use crate::named::closed;
+use crate::progress::Bar;
+use clap::Args;
+use omnee_core::method::Choice;
+use omnee_core::names::Named;
+use omnee_core::term::Term;
+use omnee_render::error::Spelling;
+use omnee_render::files::{check_output, with_ext, write_exr, write_png};
+use omnee_render::image::{Layers, tone_map};
+use omnee_render::parallel::with_threads;
+use omnee_render::phase::PhaseSampling;
+use omnee_render::render::Rendered;
+use omnee_render::render::budget::Budget;
+use omnee_render::scenes::underwater::UNDERWATER_TERMS;
+use omnee_render::scenes::{RenderReport, RenderSettings, Scene, SceneStats, Source};
+use omnee_render::{RenderError, Result};
+use serde_json::json;
 use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
 
 /// Output formats of `render`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ImageFormat {
-    /// OpenEXR and PNG
+    /// OpenEXR and PNG.
     Both,
-    /// OpenEXR only
+    /// OpenEXR only.
     Exr,
-    /// PNG only
+    /// PNG only.
     Png,
 }
 
+impl Named for ImageFormat {
+    const ALL: &'static [Self] = &[ImageFormat::Both, ImageFormat::Exr, ImageFormat::Png];
+    fn name(self) -> &'static str {
+        match self {
+            ImageFormat::Both => "both",
+            ImageFormat::Exr => "exr",
+            ImageFormat::Png => "png",
+        }
+    }
+    fn help(self) -> &'static str {
+        match self {
+            ImageFormat::Both => "OpenEXR and PNG",
+            ImageFormat::Exr => "OpenEXR only",
+            ImageFormat::Png => "PNG only",
+        }
+    }
+}
+
 /// When `render` draws its progress bar.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ProgressMode {
-    /// on stderr when it is a terminal
+    /// On stderr when it is a terminal.
     Auto,
-    /// not at all
+    /// Not at all.
     Never,
+}
+
+impl Named for ProgressMode {
+    const ALL: &'static [Self] = &[ProgressMode::Auto, ProgressMode::Never];
+    fn name(self) -> &'static str {
+        match self {
+            ProgressMode::Auto => "auto",
+            ProgressMode::Never => "never",
+        }
+    }
+    fn help(self) -> &'static str {
+        match self {
+            ProgressMode::Auto => "on stderr when it is a terminal",
+            ProgressMode::Never => "not at all",
+        }
+    }
 }
 
 /// The options of `omnee render`.
 #[derive(Args, Debug)]
 pub struct RenderArgs {
     /// The scene: a built-in name or a scene file (TOML).
-    #[arg(long, value_parser = scene::Source::parse, default_value = "default")]
-    pub scene: scene::Source,
+    #[arg(long, value_parser = parse_source, default_value = "default")]
+    pub scene: Source,
     /// Samples per pixel (default: the scene's render.spp).
     #[arg(long, conflicts_with = "time")]
     pub spp: Option<u32>,
@@ -66,16 +105,16 @@ pub struct RenderArgs {
     #[arg(long, value_parser = parse_u32x4, value_name = "X0,Y0,X1,Y1")]
     pub crop: Option<[u32; 4]>,
     /// Comma-separated transport terms (default: the scene's render.terms).
-    #[arg(long, value_enum, value_delimiter = ',', value_name = "TERM")]
+    #[arg(long, value_parser = closed::<Term>(), value_delimiter = ',', value_name = "TERM")]
     pub terms: Option<Vec<Term>>,
     /// Technique for the once-more term (default: the scene's render.technique).
-    #[arg(long, value_enum)]
-    pub technique: Option<Technique>,
+    #[arg(long, value_parser = closed::<Choice>())]
+    pub technique: Option<Choice>,
     /// Restrict the once-more integrand to deflections theta < THETA_MAX (radians, (0, pi]).
     #[arg(long)]
     pub theta_max: Option<f64>,
     /// How the once-more and view terms draw deflections from the medium's phase function (slab scenes).
-    #[arg(long, value_enum, value_name = "HOW", default_value_t = PhaseSampling::Table)]
+    #[arg(long, value_parser = closed::<PhaseSampling>(), value_name = "HOW", default_value = "table")]
     pub phase_sampling: PhaseSampling,
     /// Russian roulette threshold as a fraction of the scene's reference radiance (0: off).
     #[arg(long)]
@@ -87,297 +126,243 @@ pub struct RenderArgs {
     #[arg(short, long, default_value = "omnee")]
     pub output: PathBuf,
     /// Which files to write.
-    #[arg(long, value_enum, default_value_t = ImageFormat::Both)]
+    #[arg(long, value_parser = closed::<ImageFormat>(), default_value = "both")]
     pub format: ImageFormat,
     /// Also write each term's layer as BASE.TERM.png, with the sum's exposure.
     #[arg(long)]
     pub png_layers: bool,
     /// Progress bar on stderr.
-    #[arg(long, value_enum, value_name = "MODE", default_value_t = ProgressMode::Auto)]
+    #[arg(long, value_parser = closed::<ProgressMode>(), value_name = "MODE", default_value = "auto")]
     pub progress: ProgressMode,
     /// Print the summary as JSON on stdout.
     #[arg(long)]
     pub json: bool,
 }
 
-/// What a scene gives when an option is left out.
-pub(super) struct Defaults {
-    pub(super) spp: u32,
-    pub(super) seed: u64,
-    pub(super) width: u32,
-    pub(super) height: u32,
-    pub(super) terms: Vec<Term>,
-    pub(super) theta_max: f64,
-    pub(super) russian_roulette: f64,
-    pub(super) exposure: Option<f64>,
-    pub(super) technique: Technique,
-}
-
-/// The options checked against their ranges, the scene's settings filled in.
-pub(super) struct Settings {
-    pub(super) budget: Budget,
-    pub(super) seed: u64,
-    pub(super) width: u32,
-    pub(super) height: u32,
-    pub(super) crop: [u32; 4],
-    /// As asked for (reported as given).
-    pub(super) terms: Vec<Term>,
-    pub(super) theta_max: f64,
-    pub(super) russian_roulette: f64,
-    pub(super) exposure: Option<f64>,
-    pub(super) technique: Technique,
-    pub(super) exr: Option<PathBuf>,
-    pub(super) png: Option<PathBuf>,
-}
-
-impl Settings {
-    /// Checks `a`, taking what it leaves out from the scene's `[render]`
-    /// and `[camera]`; also checks that the outputs' folder exists.
-    fn new(a: &RenderArgs, scene: &Scene) -> Result<Self> {
-        let r = &scene.render;
-        Self::with_defaults(
-            a,
-            &Defaults {
-                spp: r.spp,
-                seed: r.seed,
-                width: scene.camera.width,
-                height: scene.camera.height,
-                terms: r.terms.clone(),
-                theta_max: r.theta_max,
-                russian_roulette: r.russian_roulette,
-                exposure: r.exposure,
-                technique: r.technique,
-            },
-        )
+impl RenderArgs {
+    /// The scene's settings with the options that were given in their place.
+    fn settings(&self, scene: &Scene) -> Result<RenderSettings> {
+        let mut s = scene.settings();
+        if let (Scene::Underwater(_), Some(r)) = (scene, self.russian_roulette) {
+            return Err(RenderError::Input(format!(
+                "--russian-roulette = {r} does not apply to the underwater scene (light tracing \
+                 splats every path); allowed: leave it out"
+            )));
+        }
+        if let Some(n) = self.spp {
+            s.budget = Budget::Spp(n);
+        } else if let Some(t) = self.time {
+            s.budget = Budget::Seconds(t);
+        }
+        if let Some((w, h)) = self.resolution {
+            (s.width, s.height) = (w, h);
+        }
+        s.crop = self.crop;
+        s.seed = self.seed.unwrap_or(s.seed);
+        s.terms = self.terms.clone().unwrap_or(s.terms);
+        s.technique = self.technique.unwrap_or(s.technique);
+        s.theta_max = self.theta_max.unwrap_or(s.theta_max);
+        s.russian_roulette = self.russian_roulette.unwrap_or(s.russian_roulette);
+        s.exposure = self.exposure.or(s.exposure);
+        s.phase_sampling = self.phase_sampling;
+        Ok(s)
     }
 
-    /// Checks `a`, taking what it leaves out from `s`; also checks that the
-    /// outputs' folder exists.
-    pub(super) fn with_defaults(a: &RenderArgs, s: &Defaults) -> Result<Self> {
-        let budget = match (a.spp, a.time) {
-            (Some(n), _) => {
-                Range::closed(1.0, (1u64 << 24) as f64).check("--spp", n as f64)?;
-                Budget::Spp(n)
-            }
-            (None, Some(t)) => Budget::Seconds(Range::POSITIVE.check("--time", t)?),
-            (None, None) => Budget::Spp(s.spp),
-        };
-        let (width, height) = a.resolution.unwrap_or((s.width, s.height));
-        let crop = a.crop.unwrap_or([0, 0, width, height]);
-        if !(crop[0] < crop[2] && crop[1] < crop[3] && crop[2] <= width && crop[3] <= height) {
-            return Err(CliError::range(
-                "--crop",
-                format!("{},{},{},{}", crop[0], crop[1], crop[2], crop[3]),
-                format!("X0 < X1 <= {width}, Y0 < Y1 <= {height}"),
-            ));
-        }
-        let optional = |range: Range, field: &str, x: Option<f64>| {
-            x.map(|x| range.check(field, x)).transpose()
-        };
-        let theta_max = optional(Range::THETA_MAX, "--theta-max", a.theta_max)?;
-        let roulette = optional(Range::UNIT, "--russian-roulette", a.russian_roulette)?;
-        let exposure = optional(Range::EXPOSURE, "--exposure", a.exposure)?;
-        let exr = matches!(a.format, ImageFormat::Both | ImageFormat::Exr)
-            .then(|| with_ext(&a.output, "exr"));
-        let png = matches!(a.format, ImageFormat::Both | ImageFormat::Png)
-            .then(|| with_ext(&a.output, "png"));
+    /// The EXR and PNG paths asked for, their folder checked.
+    fn outputs(&self) -> Result<(Option<PathBuf>, Option<PathBuf>)> {
+        let exr = matches!(self.format, ImageFormat::Both | ImageFormat::Exr)
+            .then(|| with_ext(&self.output, "exr"));
+        let png = matches!(self.format, ImageFormat::Both | ImageFormat::Png)
+            .then(|| with_ext(&self.output, "png"));
         if let Some(p) = &exr {
             check_output("--output", p)?;
         }
-        if png.is_some() || a.png_layers {
-            check_output("--output", &with_ext(&a.output, "png"))?;
+        if png.is_some() || self.png_layers {
+            check_output("--output", &with_ext(&self.output, "png"))?;
         }
-        Ok(Settings {
-            budget,
-            seed: a.seed.unwrap_or(s.seed),
-            width,
-            height,
-            crop,
-            terms: a.terms.clone().unwrap_or_else(|| s.terms.clone()),
-            theta_max: theta_max.unwrap_or(s.theta_max),
-            russian_roulette: roulette.unwrap_or(s.russian_roulette),
-            exposure: exposure.or(s.exposure),
-            technique: a.technique.unwrap_or(s.technique),
-            exr,
-            png,
-        })
+        Ok((exr, png))
     }
 }
 
 /// `omnee render`.
 pub fn run(a: RenderArgs) -> Result<()> {
-    if let Some(scene) = super::render_underwater::scene(&a.scene)? {
-        return super::render_underwater::run(a, scene);
-    }
-    let scene = Scene::from_source(&a.scene)?;
-    let set = Settings::new(&a, &scene)?;
-    crate::term::check("--terms", &set.terms, &crate::term::SLAB, "slab")?;
-    let mut storage = TableStorage::<f32>::default();
-    let phase = (scene.medium.phase).sampled::<f32>(a.phase_sampling, &mut storage)?;
-    let world = World::new(&scene, phase)?;
-    let g = world.phase().mean_cosine() as f64;
-    let tau = scene.medium.sigma_t() * (scene.light.center[2] - scene.floor.z);
-    let choice = technique::choose(set.technique, g, tau);
-
-    // Skip what the scene does not need, and say so.
-    let mut terms = set.terms.clone();
-    terms.sort();
-    terms.dedup();
-    let mut notes = Vec::new();
-    let scattering = |t: &Term| matches!(t, Term::OnceMore | Term::View);
-    if !world.scatters() && terms.iter().any(scattering) {
-        notes.push("sigma_s = 0: once-more and view terms skipped (no scattering)".to_string());
-        terms.retain(|t| !scattering(t));
-    }
-    if scene.occluder.is_none() {
-        notes.push("no occluder: no visibility tests".to_string());
+    let scene = Scene::from_source("--scene", &a.scene)?;
+    let settings = a.settings(&scene)?;
+    let (exr, png) = a.outputs()?;
+    let bar = (a.progress == ProgressMode::Auto).then(|| Bar::start(settings.budget));
+    let go = AtomicBool::new(false);
+    let progress = |p| {
+        if let Some(b) = &bar {
+            b.report(p);
+        }
+    };
+    let (out, report) = with_threads(a.threads, || {
+        scene.render(&settings, Spelling::Options, &progress, &go)
+    })??;
+    if let Some(b) = bar {
+        b.finish();
     }
     let say = |line: &str| {
         if !a.json {
             println!("{line}");
         }
     };
-    if terms.contains(&Term::OnceMore) {
-        match &choice.reason {
-            Some(r) => say(&format!(
-                "technique: auto picked {}: {r}",
-                choice.method.name()
-            )),
-            None => say(&format!("technique: {}", choice.method.name())),
+    if report.once_more {
+        let t = &report.technique;
+        match &t.reason {
+            Some(r) => say(&format!("technique: auto picked {}: {r}", t.used)),
+            None => say(&format!("technique: {}", t.used)),
         }
-        if world.tabulated() {
+        if report.tabulated {
             say("phase sampling: tabulated inverse CDF, p/q in the weight");
         }
     }
-    for n in &notes {
+    for n in &report.skipped {
         say(&format!("skip: {n}"));
     }
-
-    let transport = Transport {
-        once_more: OnceMore {
-            method: choice.method,
-            theta_max: set.theta_max as f32,
-        },
-        roulette: (set.russian_roulette * scene.reference_radiance()) as f32,
-    };
-    let options = render::Options {
-        budget: set.budget,
-        seed: set.seed,
-        width: set.width,
-        height: set.height,
-        crop: set.crop,
-        terms: terms.clone(),
-        progress: a.progress == ProgressMode::Auto,
-    };
-    let camera = Pinhole::new(&scene.camera, set.width, set.height);
-    let out = with_threads(a.threads, || {
-        render::render(&options, |x, y, rng, stats, radiance| {
-            let ray = (camera.eye, camera.ray(x, y));
-            world.radiance(ray, &terms, &transport, rng, stats, radiance);
-        })
-    })?;
-    let ev = write_images(&a, &set, &out.layers, &say)?;
+    let ev = write_images(&a, &settings, &out.layers, exr.as_ref(), png.as_ref(), &say)?;
+    let files = (exr, png);
     if a.json {
-        let sampling = phase_sampling_json(&world);
-        println!(
-            "{}",
-            summary_json(&set, &choice, sampling, &notes, &out, ev)
-        );
+        println!("{}", summary_json(&settings, &report, &out, ev, &files));
     } else {
-        summary_text(&set, &out, ev, &say);
+        summary_text(&settings, &out, ev, &files, &say);
     }
     Ok(())
 }
 
 /// Writes the EXR, the PNG and the layer PNGs asked for; returns the PNG's
 /// exposure (stops).
-pub(super) fn write_images(
+fn write_images(
     a: &RenderArgs,
-    set: &Settings,
+    settings: &RenderSettings,
     layers: &Layers,
+    exr: Option<&PathBuf>,
+    png: Option<&PathBuf>,
     say: &dyn Fn(&str),
 ) -> Result<f64> {
-    let (srgb, ev) = image::tone_map(layers.get("").unwrap_or(&[]), set.exposure);
-    if let Some(path) = &set.exr {
-        image::write_exr(path, layers)?;
+    let (srgb, ev) = tone_map(layers.get("").unwrap_or(&[]), settings.exposure);
+    if let Some(path) = exr {
+        write_exr(path, layers)?;
     }
-    if let Some(path) = &set.png {
-        image::write_png(path, layers.width, layers.height, &srgb)?;
+    if let Some(path) = png {
+        write_png(path, layers.width, layers.height, &srgb)?;
     }
     if a.png_layers {
         for (name, data) in layers.layers.iter().filter(|(n, _)| !n.is_empty()) {
             let path = with_ext(&a.output, &format!("{name}.png"));
-            let (srgb, _) = image::tone_map(data, Some(ev));
-            image::write_png(&path, layers.width, layers.height, &srgb)?;
+            let (srgb, _) = tone_map(data, Some(ev));
+            write_png(&path, layers.width, layers.height, &srgb)?;
             say(&format!("wrote {}", path.display()));
         }
     }
     Ok(ev)
 }
 
-/// How the once-more term sampled the phase function, for the summaries:
-/// `table` or `exact`.
-pub(super) fn phase_sampling_json(world: &World<'_>) -> &'static str {
-    if world.tabulated() { "table" } else { "exact" }
-}
-
 /// The `--json` summary.
 fn summary_json(
-    set: &Settings,
-    choice: &Choice,
-    phase_sampling: &str,
-    notes: &[String],
-    out: &Rendered,
+    s: &RenderSettings,
+    report: &RenderReport,
+    out: &Rendered<SceneStats>,
     ev: f64,
+    (exr, png): &(Option<PathBuf>, Option<PathBuf>),
 ) -> serde_json::Value {
-    let st = out.stats;
-    let terms: Vec<String> = set.terms.iter().map(Term::to_string).collect();
-    serde_json::json!({
-        "width": set.width, "height": set.height, "crop": set.crop, "spp": out.spp,
-        "seconds": out.seconds, "seed": set.seed, "terms": terms,
-        "technique": choice.method.name(), "technique_requested": choice.requested.to_string(),
-        "auto_reason": choice.reason, "phase_sampling": phase_sampling, "theta_max": set.theta_max, "exposure": ev,
-        "skipped": notes,
-        "stats": {
-            "connections": st.connections, "skipped_unreachable": st.skipped_unreachable,
-            "no_vertex": st.no_vertex, "roulette_dropped": st.roulette_dropped,
-            "roulette_kept": st.roulette_kept, "visibility_tests": st.visibility_tests,
-        },
-        "exr": set.exr.as_ref().map(|p| p.display().to_string()),
-        "png": set.png.as_ref().map(|p| p.display().to_string()),
-    })
+    let terms: Vec<String> = s.terms.iter().map(Term::to_string).collect();
+    let t = &report.technique;
+    let mut v = json!({
+        "width": s.width, "height": s.height, "crop": s.crop.unwrap_or([0, 0, s.width, s.height]),
+        "spp": out.passes, "seconds": out.seconds, "seed": s.seed, "terms": terms,
+        "technique": t.used.to_string(), "technique_requested": t.requested.to_string(),
+        "auto_reason": t.reason.map(|r| r.to_string()), "theta_max": s.theta_max, "exposure": ev,
+        "skipped": report.skipped,
+        "exr": exr.as_ref().map(|p| p.display().to_string()),
+        "png": png.as_ref().map(|p| p.display().to_string()),
+    });
+    match out.stats {
+        SceneStats::Slab(st) => {
+            v["phase_sampling"] = json!(if report.tabulated { "table" } else { "exact" });
+            v["stats"] = json!({
+                "connections": st.connections, "skipped_unreachable": st.skipped_unreachable,
+                "no_vertex": st.no_vertex, "roulette_dropped": st.roulette_dropped,
+                "roulette_kept": st.roulette_kept, "visibility_tests": st.visibility_tests,
+            });
+        }
+        SceneStats::Underwater(st) => {
+            v["scene"] = json!("underwater");
+            let splats: serde_json::Map<_, _> = UNDERWATER_TERMS
+                .iter()
+                .zip(st.splats)
+                .map(|(t, n)| (t.to_string(), json!(n)))
+                .collect();
+            v["stats"] = json!({
+                "paths": st.paths, "outside_region": st.outside_region,
+                "lost_at_surface": st.lost_at_surface, "floor_hits": st.floor_hits,
+                "splats": splats, "no_vertex": st.no_vertex, "surface_tests": st.surface_tests,
+            });
+        }
+    }
+    v
 }
 
 /// The text summary: size, samples, time, the work counters, the files.
-fn summary_text(set: &Settings, out: &Rendered, ev: f64, say: &dyn Fn(&str)) {
-    let [x0, y0, x1, y1] = set.crop;
-    let st = out.stats;
-    say(&format!(
-        "rendered {}x{} ({} pixels), {} spp in {:.2} s",
-        set.width,
-        set.height,
-        (x1 - x0) * (y1 - y0),
-        out.spp,
-        out.seconds
-    ));
-    say(&format!(
-        "once-more connections {}, not sampled (theta < theta_max cannot reach the slab) {}, no vertex {}; \
-         roulette dropped {} kept {}; visibility tests {}",
-        st.connections,
-        st.skipped_unreachable,
-        st.no_vertex,
-        st.roulette_dropped,
-        st.roulette_kept,
-        st.visibility_tests
-    ));
-    if let Some(path) = &set.exr {
+fn summary_text(
+    s: &RenderSettings,
+    out: &Rendered<SceneStats>,
+    ev: f64,
+    (exr, png): &(Option<PathBuf>, Option<PathBuf>),
+    say: &dyn Fn(&str),
+) {
+    let [x0, y0, x1, y1] = s.crop.unwrap_or([0, 0, s.width, s.height]);
+    let size = format!(
+        "{}x{} ({} pixels)",
+        s.width,
+        s.height,
+        (x1 - x0) * (y1 - y0)
+    );
+    match out.stats {
+        SceneStats::Slab(st) => {
+            say(&format!(
+                "rendered {size}, {} spp in {:.2} s",
+                out.passes, out.seconds
+            ));
+            say(&format!(
+                "once-more connections {}, not sampled (theta < theta_max cannot reach the slab) {}, \
+                 no vertex {}; roulette dropped {} kept {}; visibility tests {}",
+                st.connections,
+                st.skipped_unreachable,
+                st.no_vertex,
+                st.roulette_dropped,
+                st.roulette_kept,
+                st.visibility_tests
+            ));
+        }
+        SceneStats::Underwater(st) => {
+            say(&format!(
+                "rendered {size}, {} passes of {} light paths in {:.2} s",
+                out.passes,
+                s.width * s.height,
+                out.seconds
+            ));
+            say(&format!(
+                "light paths {}: outside the lit region {}, lost at the surface {}, on the floor {}; \
+                 splats: {}; no once-more vertex {}; wave-band tests {}",
+                st.paths,
+                st.outside_region,
+                st.lost_at_surface,
+                st.floor_hits,
+                st.splats_by_term(),
+                st.no_vertex,
+                st.surface_tests
+            ));
+        }
+    }
+    if let Some(path) = exr {
         say(&format!(
             "wrote {} (layers: {})",
             path.display(),
             out.layers.names()
         ));
     }
-    if let Some(path) = &set.png {
+    if let Some(path) = png {
         say(&format!(
             "wrote {} (exposure {ev:+.2} stops)",
             path.display()

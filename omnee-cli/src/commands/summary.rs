@@ -1,16 +1,16 @@
 //! The result of `probe` and `estimate`: a JSON object, printed as it is
 //! (`--json`) or as a few lines of text.
 
-use crate::technique::Choice;
+use omnee_render::technique::Resolved;
 use serde_json::{Value, json};
 
 /// The technique fields of a result: `technique`, `technique_requested`,
 /// `auto_reason`.
-pub fn choice_json(c: &Choice) -> (Value, Value, Value) {
+pub fn technique_json(t: &Resolved) -> (Value, Value, Value) {
     (
-        json!(c.method.name()),
-        json!(c.requested.to_string()),
-        json!(c.reason),
+        json!(t.used.to_string()),
+        json!(t.requested.to_string()),
+        json!(t.reason.map(|r| r.to_string())),
     )
 }
 

@@ -322,7 +322,9 @@ fn help_documents_the_phase_specs_and_default_scene_round_trips() {
     }
     assert_eq!(
         text,
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/default.toml"))
-            .unwrap()
+        std::fs::read_to_string(
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../omnee-render/scenes/default.toml")
+        )
+        .unwrap()
     );
 }

@@ -128,7 +128,7 @@ fn terms_technique_time_and_skipping_work_as_for_the_default_scene() {
     );
 
     // Clear water: the scattering terms are skipped, and the run says so.
-    let text = omnee_cli::underwater::scene::UNDERWATER_SCENE.replacen(
+    let text = omnee_render::scenes::underwater::UNDERWATER_SCENE.replacen(
         "sigma_s = [0.25, 0.25, 0.25]",
         "sigma_s = 0",
         1,
@@ -163,7 +163,10 @@ fn default_scene_underwater_prints_a_scene_that_renders_from_a_file() {
     let dir = tempfile::tempdir().unwrap();
     let o = run_in(dir.path(), &["default-scene", "underwater"]);
     assert!(o.status.success());
-    assert_eq!(stdout(&o), omnee_cli::underwater::scene::UNDERWATER_SCENE);
+    assert_eq!(
+        stdout(&o),
+        omnee_render::scenes::underwater::UNDERWATER_SCENE
+    );
     std::fs::write(dir.path().join("uw.toml"), stdout(&o)).unwrap();
     let mut args = vec!["render", "--scene", "uw.toml"];
     args.extend(SMALL);
@@ -173,7 +176,7 @@ fn default_scene_underwater_prints_a_scene_that_renders_from_a_file() {
 
 #[test]
 fn bad_underwater_input_exits_2_naming_the_field_and_writes_nothing() {
-    use omnee_cli::underwater::scene::UNDERWATER_SCENE;
+    use omnee_render::scenes::underwater::UNDERWATER_SCENE;
     let cases: [(&str, &str, &str); 6] = [
         (
             "irradiance = 1000.0",

@@ -97,7 +97,7 @@ impl<F: Real, L: Lobe<F> + Copy, P: Restricted<F> + Copy> Technique<F> for LobeM
     /// The lobe technique if `u0 < c` (with `u0/c`), else OMNEE (with
     /// `(u0 − c)/(1 − c)`); weight `w · weight_i / c_i` with the balance
     /// weight `w = c_i p_i / q`, i.e. `k/q`, and pdf `q`, the densities
-    /// compared per `L³` of the connection's unit (docs/math.md §14). With
+    /// compared per `L³` of the connection's unit (docs/math.md §15). With
     /// `c = 0` the lobe technique's density is not evaluated.
     fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
         let c = self.c;

@@ -65,7 +65,7 @@ impl<F: Real, L: Lobe<F>, P: Restricted<F>> LobeRay<F, L, P> {
     }
 
     /// `pdf_ω · 2π p1(θ) sin θ · s sin α / (M d1² d2²)` per `L³`, with
-    /// `s`, `d1`, `d2` in the connection's unit (docs/math.md §14); not
+    /// `s`, `d1`, `d2` in the connection's unit (docs/math.md §15); not
     /// saturated.
     #[inline]
     fn density_unit(

@@ -3,8 +3,8 @@
 //! once the direction at `x0` has fixed `α = lo` (docs/math.md §12).
 
 use crate::phase::{
-    Deflection, Draine, FournierForand, HenyeyGreenstein, Isotropic, Mie, Mixture, Phase,
-    PhaseFunction, Rayleigh, Tabulated,
+    AnyPhase, Deflection, Draine, FournierForand, HenyeyGreenstein, Isotropic, Mie, Mixture,
+    NoTable, PhaseFunction, Rayleigh, Tabulated, dispatch,
 };
 use crate::real::Real;
 
@@ -158,23 +158,10 @@ impl<F: Real> Restricted<F> for Mie<F> {
     }
 }
 
-/// Calls `$call` on whichever phase function `$self` holds.
-macro_rules! dispatch {
-    ($self:expr, $p:ident => $call:expr) => {
-        match $self {
-            Phase::Isotropic($p) => $call,
-            Phase::HenyeyGreenstein($p) => $call,
-            Phase::TwoTermHg($p) => $call,
-            Phase::FournierForand($p) => $call,
-            Phase::Draine($p) => $call,
-            Phase::Mie($p) => $call,
-            Phase::Rayleigh($p) => $call,
-            Phase::Tabulated($p) => $call,
-        }
-    };
-}
+/// Never called: there is no table.
+impl<F: Real> Restricted<F> for NoTable {}
 
-impl<F: Real> Restricted<F> for Phase<'_, F> {
+impl<F: Real, T: Restricted<F>> Restricted<F> for AnyPhase<F, T> {
     /// The variant's.
     #[inline]
     fn mass_between(&self, lo: Deflection<F>, hi: Deflection<F>) -> F {

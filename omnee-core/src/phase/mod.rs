@@ -36,7 +36,7 @@ pub use isotropic::Isotropic;
 pub use mie::{MIE_DIAMETER_MAX_UM, Mie, MieFit, mie_fit};
 pub use mixture::{Mixture, TwoTermHg};
 pub use rayleigh::Rayleigh;
-pub use spec::Spec;
+pub use spec::{ParsedSpec, PhaseKind, Spec};
 pub use tabulated::Tabulated;
 
 use crate::real::{Real, Vector};
@@ -260,9 +260,13 @@ impl<F: Real, P: PhaseFunction<F> + ?Sized> PhaseFunction<F> for &P {
 }
 
 /// Any phase function of this module, for run-time selection (e.g. from a
-/// [`Spec`] string). Every method dispatches to the variant's own.
+/// [`Spec`] string), its table variant of type `T`. Every method dispatches
+/// to the variant's own. [`Phase`] is this enum with the caller-owned
+/// [`Tabulated`] tables; a program that never tabulates (the browser demo)
+/// uses `AnyPhase<F, NoTable>`, whose table variant cannot be built, so the
+/// table's code is not linked.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Phase<'a, F> {
+pub enum AnyPhase<F, T> {
     /// `p = 1/(4π)`.
     Isotropic(Isotropic),
     /// `p = (1 − g²)/(4π (1 + g² − 2g cos θ)^{3/2})`.
@@ -277,27 +281,71 @@ pub enum Phase<'a, F> {
     Mie(Mie<F>),
     /// `p = 3/(16π) (1 + cos²θ)`.
     Rayleigh(Rayleigh),
-    /// A caller-owned table, constant per solid angle in each bin.
-    Tabulated(Tabulated<'a, F>),
+    /// A table, constant per solid angle in each bin.
+    Tabulated(T),
 }
 
-/// Calls `$method` on whichever phase function `$self` holds.
+/// Any phase function of this module, tables borrowed for `'a`: the
+/// run-time choice every front end uses.
+pub type Phase<'a, F> = AnyPhase<F, Tabulated<'a, F>>;
+
+/// The table type of a program without tables: it has no values, so
+/// `AnyPhase<F, NoTable>` has no table variant to dispatch to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NoTable {}
+
+impl<F: Real> PhaseFunction<F> for NoTable {
+    fn eval(&self, _: Deflection<F>) -> F {
+        match *self {}
+    }
+    fn sample(&self, _: F) -> Deflection<F> {
+        match *self {}
+    }
+    fn cdf(&self, _: Deflection<F>) -> F {
+        match *self {}
+    }
+    fn mean_cosine(&self) -> F {
+        match *self {}
+    }
+}
+
+impl<F, T> AnyPhase<F, T> {
+    /// The same phase function with the table type `U`, if it is not a
+    /// table (`None` for [`AnyPhase::Tabulated`]).
+    pub fn analytic<U>(self) -> Option<AnyPhase<F, U>> {
+        Some(match self {
+            AnyPhase::Isotropic(p) => AnyPhase::Isotropic(p),
+            AnyPhase::HenyeyGreenstein(p) => AnyPhase::HenyeyGreenstein(p),
+            AnyPhase::TwoTermHg(p) => AnyPhase::TwoTermHg(p),
+            AnyPhase::FournierForand(p) => AnyPhase::FournierForand(p),
+            AnyPhase::Draine(p) => AnyPhase::Draine(p),
+            AnyPhase::Mie(p) => AnyPhase::Mie(p),
+            AnyPhase::Rayleigh(p) => AnyPhase::Rayleigh(p),
+            AnyPhase::Tabulated(_) => return None,
+        })
+    }
+}
+
+/// Calls `$call` on whichever phase function the [`AnyPhase`] `$self`
+/// holds, bound to `$p`: the one dispatch of the enum, for every trait it
+/// implements.
 macro_rules! dispatch {
     ($self:expr, $p:ident => $call:expr) => {
         match $self {
-            Phase::Isotropic($p) => $call,
-            Phase::HenyeyGreenstein($p) => $call,
-            Phase::TwoTermHg($p) => $call,
-            Phase::FournierForand($p) => $call,
-            Phase::Draine($p) => $call,
-            Phase::Mie($p) => $call,
-            Phase::Rayleigh($p) => $call,
-            Phase::Tabulated($p) => $call,
+            $crate::phase::AnyPhase::Isotropic($p) => $call,
+            $crate::phase::AnyPhase::HenyeyGreenstein($p) => $call,
+            $crate::phase::AnyPhase::TwoTermHg($p) => $call,
+            $crate::phase::AnyPhase::FournierForand($p) => $call,
+            $crate::phase::AnyPhase::Draine($p) => $call,
+            $crate::phase::AnyPhase::Mie($p) => $call,
+            $crate::phase::AnyPhase::Rayleigh($p) => $call,
+            $crate::phase::AnyPhase::Tabulated($p) => $call,
         }
     };
 }
+pub(crate) use dispatch;
 
-impl<F: Real> PhaseFunction<F> for Phase<'_, F> {
+impl<F: Real, T: PhaseFunction<F>> PhaseFunction<F> for AnyPhase<F, T> {
     /// The variant's `p(θ)`.
     #[inline]
     fn eval(&self, d: Deflection<F>) -> F {

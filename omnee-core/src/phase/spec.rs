@@ -2,10 +2,13 @@
 //!
 //! The syntax is documented on [`Spec`] (this module is private).
 
-use super::{Draine, FournierForand, HenyeyGreenstein, Isotropic, Mie, Mixture, Phase, Rayleigh};
+use super::{
+    AnyPhase, Draine, FournierForand, HenyeyGreenstein, Isotropic, Mie, Mixture, Phase, Rayleigh,
+};
 #[allow(unused_imports)] // named by the documentation of `Spec`
 use super::{Tabulated, TwoTermHg};
 use crate::error::Error;
+use crate::names::Named;
 use crate::real::Real;
 use core::fmt;
 
@@ -32,6 +35,8 @@ use core::fmt;
 /// [`Error::OutOfRange`] naming the parameter and its range. Parsing does not
 /// allocate. [`Display`](core::fmt::Display) writes the same syntax back
 /// (shortest round-trip decimals), so `parse(spec.to_string())` gives `spec`.
+/// The grammar itself is [`ParsedSpec`]'s; this is its result built in
+/// precision `F`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Spec<'s, F: 'static> {
     /// A phase function with all its parameters.
@@ -43,100 +48,214 @@ pub enum Spec<'s, F: 'static> {
     },
 }
 
+/// The phase functions a spec string names: the first part of the syntax
+/// of [`Spec`], with its parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum PhaseKind {
+    /// `iso`: [`Isotropic`].
+    Isotropic,
+    /// `hg:G`: [`HenyeyGreenstein`].
+    HenyeyGreenstein,
+    /// `tthg:G1,G2,W`: [`TwoTermHg`].
+    TwoTermHg,
+    /// `ff:B,N`: [`FournierForand`].
+    FournierForand,
+    /// `draine:G,ALPHA`: [`Draine`].
+    Draine,
+    /// `mie:DIAMETER_UM`: [`Mie`].
+    Mie,
+    /// `rayleigh`: [`Rayleigh`].
+    Rayleigh,
+    /// `table:FILE.csv`: a measured [`Tabulated`] table.
+    Table,
+}
+
+impl Named for PhaseKind {
+    const ALL: &'static [Self] = &[
+        PhaseKind::Isotropic,
+        PhaseKind::HenyeyGreenstein,
+        PhaseKind::TwoTermHg,
+        PhaseKind::FournierForand,
+        PhaseKind::Draine,
+        PhaseKind::Mie,
+        PhaseKind::Rayleigh,
+        PhaseKind::Table,
+    ];
+
+    fn name(self) -> &'static str {
+        match self {
+            PhaseKind::Isotropic => "iso",
+            PhaseKind::HenyeyGreenstein => "hg",
+            PhaseKind::TwoTermHg => "tthg",
+            PhaseKind::FournierForand => "ff",
+            PhaseKind::Draine => "draine",
+            PhaseKind::Mie => "mie",
+            PhaseKind::Rayleigh => "rayleigh",
+            PhaseKind::Table => "table",
+        }
+    }
+
+    fn help(self) -> &'static str {
+        match self {
+            PhaseKind::Isotropic => "isotropic, p = 1/(4 pi)",
+            PhaseKind::HenyeyGreenstein => "Henyey-Greenstein, G in (-1, 1) (G > 0: forward)",
+            PhaseKind::TwoTermHg => {
+                "two-term HG, W*HG(G1) + (1-W)*HG(G2); G1, G2 in (-1, 1), W in [0, 1]"
+            }
+            PhaseKind::FournierForand => {
+                "Fournier-Forand, backscatter fraction B in (0, 0.5), refractive index N in [1.001, 1.5]"
+            }
+            PhaseKind::Draine => "Draine, G in (-1, 1), ALPHA in [0, 1000]",
+            PhaseKind::Mie => {
+                "approximate Mie (Jendersie & d'Eon 2023), droplet diameter in (0, 50] micrometres"
+            }
+            PhaseKind::Rayleigh => "Rayleigh, p = 3/(16 pi) (1 + cos^2)",
+            PhaseKind::Table => "measured: lines 'angle_deg,value', angles increasing in [0, 180]",
+        }
+    }
+}
+
+crate::display_by_name!(PhaseKind);
+
+impl PhaseKind {
+    /// The parameters' names (the fields of their errors) and the usage
+    /// message of a wrong count.
+    fn parameters(self) -> (&'static [&'static str], &'static str) {
+        match self {
+            PhaseKind::Isotropic | PhaseKind::Rayleigh => (&[], "takes no parameters"),
+            PhaseKind::HenyeyGreenstein => (&["g"], "expected hg:G"),
+            PhaseKind::TwoTermHg => (&["g1", "g2", "w"], "expected tthg:G1,G2,W"),
+            PhaseKind::FournierForand => (&["backscatter", "n"], "expected ff:B,N"),
+            PhaseKind::Draine => (&["g", "alpha"], "expected draine:G,ALPHA"),
+            PhaseKind::Mie => (&["diameter_um"], "expected mie:DIAMETER_UM"),
+            PhaseKind::Table => (&[], "expected table:FILE.csv"),
+        }
+    }
+
+    /// The usage line of the syntax: `hg:G`, `table:FILE.csv`, `iso`.
+    pub fn usage(self) -> &'static str {
+        match self.parameters().1.strip_prefix("expected ") {
+            Some(usage) => usage,
+            None => self.name(),
+        }
+    }
+}
+
 /// The names accepted, for the error message.
 const NAMES: &str =
     "unknown phase function; expected iso, hg, tthg, ff, draine, mie, rayleigh or table";
 
-/// Splits `args` into exactly `N` numbers named `fields`; `usage` is the
-/// message for a wrong count.
-fn numbers<const N: usize>(
-    name: &'static str,
-    args: Option<&str>,
-    fields: [&'static str; N],
-    usage: &'static str,
-) -> Result<[f64; N], Error> {
-    let syntax = |field, reason| Error::Syntax { field, reason };
-    let args = args.ok_or(syntax(name, usage))?;
-    let mut out = [0.0; N];
-    let mut parts = args.split(',');
-    for (slot, field) in out.iter_mut().zip(fields) {
-        let part = parts.next().ok_or(syntax(name, usage))?.trim();
-        *slot = part
-            .parse::<f64>()
-            .map_err(|_| syntax(field, "not a number"))?;
-    }
-    if parts.next().is_some() {
-        return Err(syntax(name, usage));
-    }
-    Ok(out)
+/// A spec string split into the phase function's kind and its parameters,
+/// not yet checked against their ranges nor built in a precision: the
+/// grammar of [`Spec`], in one place. The numbers are read by a function
+/// the caller passes ([`ParsedSpec::parse`] uses `f64::from_str`; the
+/// browser demo passes JavaScript's `Number` for the size of its module).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ParsedSpec<'s> {
+    /// An analytic phase function and its parameters as written (unused
+    /// ones 0).
+    Analytic {
+        /// Which phase function.
+        kind: PhaseKind,
+        /// Its parameters in the order of the syntax.
+        params: [f64; 3],
+    },
+    /// `table:PATH`.
+    Table {
+        /// The path as written after `table:`, trimmed.
+        path: &'s str,
+    },
 }
 
-impl<'s, F: Real> Spec<'s, F> {
-    /// Parses the syntax above.
+/// `s` split at the first `separator`, an ASCII byte (both sides stay
+/// valid UTF-8).
+fn split_once(s: &str, separator: u8) -> Option<(&str, &str)> {
+    let i = s.bytes().position(|b| b == separator)?;
+    Some((s.get(..i)?, s.get(i + 1..)?))
+}
+
+impl<'s> ParsedSpec<'s> {
+    /// Parses the syntax of [`Spec`], numbers by `f64::from_str`.
     pub fn parse(spec: &'s str) -> Result<Self, Error> {
+        Self::parse_with(spec, |s| s.parse().ok())
+    }
+
+    /// Parses the syntax of [`Spec`], reading each (trimmed) number with
+    /// `number` (`None`: not a number).
+    pub fn parse_with(spec: &'s str, number: impl Fn(&str) -> Option<f64>) -> Result<Self, Error> {
+        let syntax = |field, reason| Error::Syntax { field, reason };
         let spec = spec.trim();
-        let (name, args) = match spec.split_once(':') {
+        let (name, args) = match split_once(spec, b':') {
             Some((n, a)) => (n.trim(), Some(a)),
             None => (spec, None),
         };
-        let f = F::from_f64;
-        let none = |field: &'static str| -> Result<(), Error> {
-            match args {
-                None => Ok(()),
-                Some(_) => Err(Error::Syntax {
-                    field,
-                    reason: "takes no parameters",
-                }),
-            }
-        };
-        let phase = match name {
-            "iso" => {
-                none("iso")?;
-                Phase::Isotropic(Isotropic)
-            }
-            "rayleigh" => {
-                none("rayleigh")?;
-                Phase::Rayleigh(Rayleigh)
-            }
-            "hg" => {
-                let [g] = numbers("hg", args, ["g"], "expected hg:G")?;
-                Phase::HenyeyGreenstein(HenyeyGreenstein::new(f(g))?)
-            }
-            "tthg" => {
-                let [g1, g2, w] =
-                    numbers("tthg", args, ["g1", "g2", "w"], "expected tthg:G1,G2,W")?;
-                Phase::TwoTermHg(Mixture::two_term(f(g1), f(g2), f(w))?)
-            }
-            "ff" => {
-                let [b, n] = numbers("ff", args, ["backscatter", "n"], "expected ff:B,N")?;
-                Phase::FournierForand(FournierForand::new(f(b), f(n))?)
-            }
-            "draine" => {
-                let [g, a] = numbers("draine", args, ["g", "alpha"], "expected draine:G,ALPHA")?;
-                Phase::Draine(Draine::new(f(g), f(a))?)
-            }
-            "mie" => {
-                let [d] = numbers("mie", args, ["diameter_um"], "expected mie:DIAMETER_UM")?;
-                Phase::Mie(Mie::new(f(d))?)
-            }
-            "table" => {
-                let path = args.map(str::trim).unwrap_or("");
-                if path.is_empty() {
-                    return Err(Error::Syntax {
-                        field: "table",
-                        reason: "expected table:FILE.csv",
-                    });
+        let kind = PhaseKind::from_name(name).ok_or(syntax("phase", NAMES))?;
+        let (fields, usage) = kind.parameters();
+        let name = kind.name();
+        if kind == PhaseKind::Table {
+            return match args.map(str::trim) {
+                Some(path) if !path.is_empty() => Ok(ParsedSpec::Table { path }),
+                _ => Err(syntax(name, usage)),
+            };
+        }
+        let mut params = [0.0; 3];
+        match args {
+            None if fields.is_empty() => {}
+            Some(_) if fields.is_empty() => return Err(syntax(name, usage)),
+            None => return Err(syntax(name, usage)),
+            Some(args) => {
+                let mut rest = Some(args);
+                for (slot, &field) in params.iter_mut().zip(fields) {
+                    let (part, tail) = match rest.map(|r| split_once(r, b',')) {
+                        None => return Err(syntax(name, usage)),
+                        Some(Some((part, tail))) => (part, Some(tail)),
+                        Some(None) => (rest.unwrap_or(""), None),
+                    };
+                    rest = tail;
+                    *slot = number(part.trim()).ok_or(syntax(field, "not a number"))?;
                 }
-                return Ok(Spec::Table { path });
+                if rest.is_some() {
+                    return Err(syntax(name, usage));
+                }
             }
-            _ => {
+        }
+        Ok(ParsedSpec::Analytic { kind, params })
+    }
+
+    /// The phase function in precision `F` with table type `T` (parameters
+    /// rounded to `F` and checked by the constructors). A table is the
+    /// caller's to load: an [`Error::Syntax`] for field `table`.
+    pub fn build<F: Real, T>(&self) -> Result<AnyPhase<F, T>, Error> {
+        let (kind, [a, b, c]) = match *self {
+            ParsedSpec::Analytic { kind, params } => (kind, params.map(F::from_f64)),
+            ParsedSpec::Table { .. } => (PhaseKind::Table, [F::ZERO; 3]),
+        };
+        Ok(match kind {
+            PhaseKind::Isotropic => AnyPhase::Isotropic(Isotropic),
+            PhaseKind::HenyeyGreenstein => AnyPhase::HenyeyGreenstein(HenyeyGreenstein::new(a)?),
+            PhaseKind::TwoTermHg => AnyPhase::TwoTermHg(Mixture::two_term(a, b, c)?),
+            PhaseKind::FournierForand => AnyPhase::FournierForand(FournierForand::new(a, b)?),
+            PhaseKind::Draine => AnyPhase::Draine(Draine::new(a, b)?),
+            PhaseKind::Mie => AnyPhase::Mie(Mie::new(a)?),
+            PhaseKind::Rayleigh => AnyPhase::Rayleigh(Rayleigh),
+            PhaseKind::Table => {
                 return Err(Error::Syntax {
-                    field: "phase",
-                    reason: NAMES,
+                    field: "table",
+                    reason: "a table is loaded by the caller",
                 });
             }
-        };
-        Ok(Spec::Analytic(phase))
+        })
+    }
+}
+
+impl<'s, F: Real> Spec<'s, F> {
+    /// Parses the syntax above ([`ParsedSpec::parse`]) and builds the phase
+    /// function in precision `F`.
+    pub fn parse(spec: &'s str) -> Result<Self, Error> {
+        match ParsedSpec::parse(spec)? {
+            ParsedSpec::Table { path } => Ok(Spec::Table { path }),
+            analytic => Ok(Spec::Analytic(analytic.build()?)),
+        }
     }
 }
 
@@ -150,19 +269,19 @@ fn num<F: Real>(f: &mut fmt::Formatter<'_>, x: F) -> fmt::Result {
     }
 }
 
-impl<F: Real> fmt::Display for Phase<'_, F> {
+impl<F: Real, T> fmt::Display for AnyPhase<F, T> {
     /// The spec syntax of the module documentation; a table prints as `table`
     /// (its file name is not known here).
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Phase::Isotropic(_) => f.write_str("iso"),
-            Phase::Rayleigh(_) => f.write_str("rayleigh"),
-            Phase::Tabulated(_) => f.write_str("table"),
-            Phase::HenyeyGreenstein(p) => {
+            AnyPhase::Isotropic(_) => f.write_str("iso"),
+            AnyPhase::Rayleigh(_) => f.write_str("rayleigh"),
+            AnyPhase::Tabulated(_) => f.write_str("table"),
+            AnyPhase::HenyeyGreenstein(p) => {
                 f.write_str("hg:")?;
                 num(f, p.g())
             }
-            Phase::TwoTermHg(p) => {
+            AnyPhase::TwoTermHg(p) => {
                 f.write_str("tthg:")?;
                 num(f, p.first().g())?;
                 f.write_str(",")?;
@@ -170,19 +289,19 @@ impl<F: Real> fmt::Display for Phase<'_, F> {
                 f.write_str(",")?;
                 num(f, F::from_f64(p.weight()))
             }
-            Phase::FournierForand(p) => {
+            AnyPhase::FournierForand(p) => {
                 f.write_str("ff:")?;
                 num(f, p.backscatter())?;
                 f.write_str(",")?;
                 num(f, p.n())
             }
-            Phase::Draine(p) => {
+            AnyPhase::Draine(p) => {
                 f.write_str("draine:")?;
                 num(f, p.g())?;
                 f.write_str(",")?;
                 num(f, p.alpha())
             }
-            Phase::Mie(p) => {
+            AnyPhase::Mie(p) => {
                 f.write_str("mie:")?;
                 num(f, p.diameter_um())
             }

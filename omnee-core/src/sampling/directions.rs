@@ -8,14 +8,14 @@ use crate::real::{Real, Vector, unit_vector};
 /// non-zero length ([`unit_vector`]: scaled by its largest component's
 /// power of two first, so neither `|n|²` nor `1/|n|` over- or underflows).
 /// Fails with `NotFinite` for a NaN or infinite component and `Degenerate`
-/// ("must be non-zero") for the zero vector, naming `field`.
+/// ("must be finite and non-zero") for the zero vector, naming `field`.
 pub fn unit_normal<F: Real>(n: F::Vec3, field: &'static str) -> Result<F::Vec3, Error> {
     if !n.is_finite() {
         return Err(Error::NotFinite { field });
     }
     unit_vector::<F>(n).ok_or(Error::Degenerate {
         field,
-        reason: "must be non-zero",
+        reason: "must be finite and non-zero",
     })
 }
 

@@ -174,7 +174,7 @@ impl<F: Real, P: PhaseFunction<F>> Distance<F, P> {
 impl<F: Real, P: PhaseFunction<F>> Technique<F> for Distance<F, P> {
     /// ω from `(u0, u1)`, `t = t_a − ln_1p(−u2 (1 − e^{−σL})) / σ`; each `u`
     /// clamped to [0, 1] (NaN to 0). Lengths in the connection's unit, σ per
-    /// unit (docs/math.md §14).
+    /// unit (docs/math.md §15).
     fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
         self.sample_unit(u).map(|(s, _)| s)
     }

@@ -24,7 +24,7 @@ use crate::real::{Real, Vector};
 /// The line's lengths (`Δ`, `D`, `a`, `b`, `t`, `v`, `c`) are all measured
 /// in the connection's [`Unit`](super::Unit) `L`: `D² + ab` and `d1² d2²`
 /// stay in range at any scale, and the density per `L³` and the weight per
-/// `1/L` are scaled back once (docs/math.md §14).
+/// `1/L` are scaled back once (docs/math.md §15).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Equiangular<F: Real, P> {
     /// The end points and θmax.

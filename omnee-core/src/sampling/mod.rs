@@ -26,6 +26,7 @@
 //! [`crate::method`] makes draws for a technique chosen by name.
 
 mod batch;
+mod connections;
 mod directions;
 mod distance;
 mod draw;
@@ -33,6 +34,9 @@ mod equiangular;
 mod omnee;
 
 pub use batch::{Uniforms, Vertices};
+pub use connections::{
+    CHUNK, Connections, Deflections, PhaseBatch, Points, PointsMut, SampleArrays,
+};
 pub use directions::{Directions, unit_normal};
 pub use distance::Distance;
 pub use draw::Draw;
@@ -102,7 +106,7 @@ pub trait Technique<F: Real> {
     /// [`pdf_vertex`](Self::pdf_vertex) per `L³` for the length unit
     /// `unit` (a connection's [`Unit`]), `pdf · L³`: the density MIS
     /// compares, finite wherever the ratio of two techniques' densities is,
-    /// at any scale (docs/math.md §14). The default scales the volume
+    /// at any scale (docs/math.md §15). The default scales the volume
     /// density, which is right wherever that is representable; the core's
     /// techniques evaluate their formulas with every length in the unit, so
     /// that their densities are right where `pdf` itself over- or underflows

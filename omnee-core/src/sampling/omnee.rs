@@ -45,7 +45,7 @@ impl<F: Real, P: PhaseFunction<F>> Omnee<F, P> {
     /// `q = p(θ) sinc θ · s / (d1² d2²)` per `L³`, from `p(θ)` and `d1`,
     /// `d2` in the connection's [`Unit`](super::Unit) (`s/L` of order one):
     /// neither over- nor underflows where the volume density `q L⁻³` is in
-    /// range, whatever `s` (docs/math.md §14).
+    /// range, whatever `s` (docs/math.md §15).
     #[inline]
     fn density_unit(&self, phase_pdf: F, sinc_theta: F, d1: F, d2: F) -> F {
         let r = F::ONE / (d1 * d2);
@@ -70,7 +70,7 @@ impl<F: Real, P: PhaseFunction<F>> Omnee<F, P> {
     /// The triangle is solved in the connection's [`Unit`](super::Unit)
     /// and its sides scaled to metres by `L` (exact), the density computed
     /// per `L³` and scaled by `L⁻³`, the weight per `1/L` and scaled by
-    /// `1/L` (docs/math.md §14): at ordinary scales bit for bit the
+    /// `1/L` (docs/math.md §15): at ordinary scales bit for bit the
     /// computation in metres, at any other the same numbers up to the
     /// rounding of what leaves the range.
     #[inline(always)]

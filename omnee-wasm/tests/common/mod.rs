@@ -50,7 +50,7 @@ pub const WATER: ([f64; 2], [f64; 2], f64, f64) = ([-0.4, 0.3], [0.8, -0.2], 0.9
 /// The problems of the page's table of 3-D references with a lobe at x0
 /// (`web/lobe-references.js`): the page's default end points and medium
 /// (`web/index.html`, `web/main.js`) with its default phase function and
-/// with issue 15's g = 0.98 (the g slider's `hg:0.98`).
+/// with docs/math.md §12.4's g = 0.98 (the g slider's `hg:0.98`).
 pub const LOBE_SPECS: [&str; 2] = ["hg:0.9", "hg:0.98"];
 /// The table's end points.
 pub const LOBE_X0: [f64; 2] = [-0.5, 0.0];

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# The shape the project promises (docs/architecture.md), checked on the
+# source: front ends depend on the library, never on the CLI; one type per
+# name across the library crates; the CLI stays a thin front end; code names
+# no tracker issues. Prints what it measured; exits 1 on the first broken rule.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+fail() { echo "layout: $*" >&2; exit 1; }
+
+# No crate but the CLI itself names omnee-cli as a dependency.
+deps=$(git grep -l -E '^omnee-cli *=' -- '*Cargo.toml' | grep -v '^omnee-cli/' || true)
+[ -z "$deps" ] || fail "these crates depend on omnee-cli (use omnee-render): $deps"
+
+# A struct, enum, trait, union or type alias name is defined once across the
+# core, the library and the CLI (associated types and test modules aside).
+dups=$(grep -rhoE '^\s*(pub(\([a-z]+\))? )?(struct|enum|trait|union) [A-Z][A-Za-z0-9_]*|^(pub(\([a-z]+\))? )?type [A-Z][A-Za-z0-9_]*' \
+  --include='*.rs' omnee-core/src omnee-render/src omnee-cli/src |
+  sed -E 's/.*(struct|enum|trait|union|type) //' | sort | uniq -d)
+[ -z "$dups" ] || fail "type names defined more than once: $(echo $dups)"
+
+# The CLI's code outside its test modules.
+cli_lines=$(for f in $(git ls-files 'omnee-cli/src/*.rs'); do
+  awk '/^#\[cfg\(test\)\]/ { exit } { n++ } END { print n + 0 }' "$f"
+done | awk '{ s += $1 } END { print s }')
+[ "$cli_lines" -le 1500 ] || fail "omnee-cli has $cli_lines lines of non-test Rust (at most 1500)"
+
+# Code and comments say what they do, not which tracker issue asked for it.
+refs=$(git grep -n -I -i -E '\b(issue|ticket) ?#?[0-9]+|\bissue[0-9]+' -- \
+  '*.rs' '*.toml' '*.py' '*.c' '*.h' '*.js' '*.mjs' '*.sh' || true)
+[ -z "$refs" ] || fail "code refers to tracker issues: $refs"
+
+echo "layout: no crate depends on omnee-cli; no type name defined twice; omnee-cli $cli_lines lines of non-test Rust; no tracker numbers in code"

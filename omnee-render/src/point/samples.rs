@@ -1,0 +1,115 @@
+//! The vertices `x1` of a technique's draws for the point-to-point problem,
+//! with their uniform numbers, pdf, weight and estimate: `omnee samples`.
+//! They are drawn in the chunks and streams of [`super::estimate`], so the
+//! same seed lists the draws an estimate averages.
+
+use super::estimate::{STREAM, check_samples};
+use super::problem::{Precision, Prepared, Problem, x1_f64};
+use crate::error::{Result, Spelling};
+use crate::parallel::{CHUNK, chunks};
+use crate::rng::Rng;
+use omnee_core::Real;
+use omnee_core::sampling::Technique;
+
+/// One vertex of a draw.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Row {
+    /// The draw's index.
+    pub draw: u64,
+    /// Which of the draw's vertices it is (0: the technique's own, 1: the
+    /// MIS companion).
+    pub vertex: usize,
+    /// The three uniform numbers that placed it.
+    pub u: [f64; 3],
+    /// The vertex `x1`.
+    pub x1: [f64; 3],
+    /// Its density in the volume measure.
+    pub pdf: f64,
+    /// The technique's weight `k/pdf`.
+    pub weight: f64,
+    /// Its contribution `f_c · weight`.
+    pub estimate: f64,
+}
+
+/// The vertices of `count` draws and, with a lobe at `x0`, the lobe
+/// technique's probability.
+#[derive(Clone, Debug)]
+pub struct Samples {
+    /// The problem as checked, with its technique resolved.
+    pub prepared: Prepared,
+    /// The draws that gave a vertex, in draw order.
+    pub rows: Vec<Row>,
+    /// With a lobe: the probability of the lobe technique.
+    pub lobe_probability: Option<f64>,
+}
+
+/// The vertices of `count` draws of `problem` (`count` spelled by
+/// `spelling` as `count`).
+pub fn samples(problem: &Problem, count: u64, spelling: Spelling) -> Result<Samples> {
+    let count = check_samples(&spelling.of("count"), count)?;
+    let p = problem.check(spelling)?;
+    let (rows, lobe_probability) = match (p.lobe.is_some(), problem.precision) {
+        (false, Precision::F32) => (rows::<f32>(&p, count)?, None),
+        (false, Precision::F64) => (rows::<f64>(&p, count)?, None),
+        (true, Precision::F32) => lobe_rows::<f32>(&p, count)?,
+        (true, Precision::F64) => lobe_rows::<f64>(&p, count)?,
+    };
+    Ok(Samples {
+        prepared: p,
+        rows,
+        lobe_probability,
+    })
+}
+
+/// The vertices of `count` draws in precision `F`.
+fn rows<F: Real>(p: &Prepared, count: u64) -> Result<Vec<Row>> {
+    p.with_sampler::<F, _>(|sampler| {
+        let mut rows = Vec::new();
+        for (k, n) in chunks(count) {
+            let mut rng = Rng::stream(p.problem.seed, k, STREAM);
+            for j in 0..n {
+                let draw = sampler.draw(&mut rng);
+                for (v, vertex) in draw.vertices.iter().enumerate() {
+                    if let (Some(s), Some(u)) = (vertex, draw.vertex_numbers(v)) {
+                        rows.push(Row {
+                            draw: k * CHUNK + j,
+                            vertex: v,
+                            u: u.map(|x| x.to_f64()),
+                            x1: x1_f64(s),
+                            pdf: s.pdf.to_f64(),
+                            weight: s.weight.to_f64(),
+                            estimate: sampler.estimate(s),
+                        });
+                    }
+                }
+            }
+        }
+        rows
+    })
+}
+
+/// The vertices of `count` draws with a lobe at `x0` (one vertex a draw,
+/// from three uniform numbers), and the lobe technique's probability.
+fn lobe_rows<F: Real>(p: &Prepared, count: u64) -> Result<(Vec<Row>, Option<f64>)> {
+    p.with_lobe::<F, _>(|t, problem| {
+        let mut rows = Vec::new();
+        for (k, n) in chunks(count) {
+            let mut rng = Rng::stream(p.problem.seed, k, STREAM);
+            for j in 0..n {
+                let u: [F; 3] = [rng.uniform(), rng.uniform(), rng.uniform()];
+                if let Some(s) = t.sample(u) {
+                    rows.push(Row {
+                        draw: k * CHUNK + j,
+                        vertex: 0,
+                        u: u.map(|x| x.to_f64()),
+                        x1: x1_f64(&s),
+                        pdf: s.pdf.to_f64(),
+                        weight: s.weight.to_f64(),
+                        estimate: problem.estimate(&s).to_f64(),
+                    });
+                }
+            }
+        }
+        Ok((rows, Some(t.lobe_probability().to_f64())))
+    })
+}
