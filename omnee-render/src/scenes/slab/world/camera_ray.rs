@@ -142,13 +142,9 @@ impl SlabWorld<'_> {
                 let roulette = Roulette::new(how.roulette);
                 Vec3::splat(self.view(o, d, hit.t(), rng, roulette, stats))
             }
-            (Term::Multiple, Some(r)) => r.radiance(self.multiple(
-                (r.p, Some(r.n)),
-                how.multiple,
-                rng,
-                r.roulette,
-                stats,
-            )),
+            (Term::Multiple, Some(r)) => {
+                r.radiance(self.multiple((r.p, Some(r.n)), how.multiple, rng, r.roulette, stats))
+            }
             // No receiver; or the underwater scene's terms, which the
             // slab scene's settings refuse before any sample is drawn.
             (Term::OnceMore | Term::Multiple, None)
