@@ -87,10 +87,29 @@ enum Command {
     DefaultScene(DefaultSceneArgs),
 }
 
-/// A clap error about a value outside a closed set of names, in the CLI's
-/// form: `--technique = "magic" is not a technique; allowed: omnee, ...`
-/// (the noun is the option's value name).
+/// The flag of clap's `--samples <SAMPLES>` (or the name of `[SCENE]`).
+fn flag(arg: &str) -> &str {
+    arg.split_whitespace().next().unwrap_or(arg)
+}
+
+/// A clap error in the CLI's form: a value outside a closed set of names,
+/// `--technique = "magic" is not a technique; allowed: omnee, ...` (the
+/// noun is the option's value name), or a value an option's parser refused,
+/// `--samples = 1e30 is out of range; allowed: [1, 2^40]` (the parser's
+/// message, which names the allowed range, after the flag).
 fn invalid_name(e: &clap::Error) -> Option<RenderError> {
+    if e.kind() == ErrorKind::ValueValidation {
+        let (Some(ContextValue::String(arg)), Some(source)) =
+            (e.get(ContextKind::InvalidArg), std::error::Error::source(e))
+        else {
+            return None;
+        };
+        // The CLI's parsers name the allowed range; clap's own do not.
+        let message = source.to_string();
+        return message
+            .contains("; allowed: ")
+            .then(|| RenderError::Input(format!("{} = {message}", flag(arg))));
+    }
     if e.kind() != ErrorKind::InvalidValue {
         return None;
     }
@@ -107,9 +126,8 @@ fn invalid_name(e: &clap::Error) -> Option<RenderError> {
         return None;
     };
     // `--technique <TECHNIQUE>` or `[SCENE]`.
-    let mut parts = arg.split_whitespace();
-    let flag = parts.next().unwrap_or(arg);
-    let noun = parts.next().unwrap_or(flag);
+    let flag = flag(arg);
+    let noun = arg.split_whitespace().nth(1).unwrap_or(flag);
     let noun = noun.trim_matches(['<', '>', '[', ']', '.']).to_lowercase();
     Some(RenderError::Input(format!(
         "{flag} = \"{value}\" is not a {noun}; allowed: {}",
@@ -176,6 +194,9 @@ mod tests {
             "{m}"
         );
         let e = Cli::try_parse_from(["omnee", "render", "--spp", "x"]).unwrap_err();
+        let m = invalid_name(&e).unwrap().to_string();
+        assert_eq!(m, "--spp = x is not a whole number; allowed: [1, 2^24]");
+        let e = Cli::try_parse_from(["omnee", "render", "--seed", "x"]).unwrap_err();
         assert!(invalid_name(&e).is_none());
     }
 

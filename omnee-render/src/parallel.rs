@@ -12,8 +12,20 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// of a splatting render: one random stream each.
 pub const CHUNK: u64 = 4096;
 
-/// Runs `f` on a rayon pool of `threads` workers (0: one per core).
+/// The most worker threads a pool may have: more only cost memory and
+/// start-up time (2⁶⁴ − 1 of them would never finish starting).
+pub const MAX_THREADS: usize = 1024;
+
+/// Runs `f` on a rayon pool of `threads` workers (0: one per core), at
+/// most [`MAX_THREADS`] (an error naming `threads` above).
 pub fn with_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> Result<T> {
+    if threads > MAX_THREADS {
+        return Err(RenderError::range(
+            "threads",
+            threads,
+            format!("[0, {MAX_THREADS}] (0: one per core)"),
+        ));
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()

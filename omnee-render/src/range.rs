@@ -84,9 +84,9 @@ impl Range {
 }
 
 /// A number as messages print it: plainly, or in scientific notation from
-/// 10⁹ on (`1e39`, not forty digits).
-fn number(x: f64) -> String {
-    if x.abs() >= 1e9 && x.is_finite() {
+/// 10⁹ on and below 10⁻⁶ (`1e39`, `1e-300`, not hundreds of digits).
+pub(crate) fn number(x: f64) -> String {
+    if (x.abs() >= 1e9 || (x != 0.0 && x.abs() < 1e-6)) && x.is_finite() {
         format!("{x:e}")
     } else {
         format!("{x}")

@@ -3,8 +3,13 @@
 
 use crate::named::closed;
 use clap::Args;
+use omnee_core::bridge::MAX_VERTICES;
 use omnee_core::method::Choice;
+use omnee_render::parallel::MAX_THREADS;
+use omnee_render::point::estimate::MAX_SAMPLES;
 use omnee_render::point::problem::{Precision, Problem};
+use omnee_render::point::samples::MAX_COUNT;
+use omnee_render::render::budget::MAX_SPP;
 use omnee_render::vertices::{DEFAULT_MAX_VERTICES, VertexNumber};
 use omnee_render::{RenderError, Result};
 
@@ -12,7 +17,7 @@ use omnee_render::{RenderError, Result};
 pub fn parse_vec3(s: &str) -> std::result::Result<[f64; 3], String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     let bad =
-        || format!("\"{s}\" is not a vector; allowed: three comma-separated finite numbers X,Y,Z");
+        || format!("{s} is not a vector; allowed: three comma-separated finite numbers X,Y,Z");
     if parts.len() != 3 {
         return Err(bad());
     }
@@ -26,9 +31,52 @@ pub fn parse_vec3(s: &str) -> std::result::Result<[f64; 3], String> {
     Ok(v)
 }
 
+/// A whole number in `[lo, hi]` (`allowed` says so): the text of a count
+/// as given (`1e30`, `-1`, `2.5`) is named with the range, never run.
+fn count(s: &str, lo: u64, hi: u64, allowed: &str) -> std::result::Result<u64, String> {
+    match s.trim().parse::<u64>() {
+        Ok(n) if (lo..=hi).contains(&n) => Ok(n),
+        _ if s
+            .trim()
+            .parse::<f64>()
+            .is_ok_and(|x| x.is_finite() && x.fract() == 0.0) =>
+        {
+            Err(format!("{s} is out of range; allowed: {allowed}"))
+        }
+        _ => Err(format!("{s} is not a whole number; allowed: {allowed}")),
+    }
+}
+
+/// A number of samples, `[1, 2⁴⁰]` (the engine's [`MAX_SAMPLES`]).
+pub fn parse_samples(s: &str) -> std::result::Result<u64, String> {
+    count(s, 1, MAX_SAMPLES, "[1, 2^40]")
+}
+
+/// A number of worker threads, `[0, 1024]` ([`MAX_THREADS`]; 0: one per core).
+pub fn parse_threads(s: &str) -> std::result::Result<usize, String> {
+    count(s, 0, MAX_THREADS as u64, "[0, 1024] (0: one per core)").map(|n| n as usize)
+}
+
+/// Samples per pixel, `[1, 2²⁴]` ([`MAX_SPP`]; the render also keeps the
+/// window's samples to 2⁴⁰).
+pub fn parse_spp(s: &str) -> std::result::Result<u32, String> {
+    count(s, 1, u64::from(MAX_SPP), "[1, 2^24]").map(|n| n as u32)
+}
+
+/// The draws `samples` lists, `[1, 2²⁴]` ([`MAX_COUNT`]).
+pub fn parse_count(s: &str) -> std::result::Result<u64, String> {
+    count(s, 1, MAX_COUNT, "[1, 2^24]")
+}
+
+/// A number of vertices, `[1, 32]` (the range each option allows within it
+/// is the library's to check).
+pub fn parse_max_vertices(s: &str) -> std::result::Result<usize, String> {
+    count(s, 1, MAX_VERTICES as u64, "[2, 32]").map(|n| n as usize)
+}
+
 /// `WIDTHxHEIGHT`, each in [1, 16384].
 pub fn parse_resolution(s: &str) -> std::result::Result<(u32, u32), String> {
-    let bad = || format!("\"{s}\" is not a resolution; allowed: WIDTHxHEIGHT, each in [1, 16384]");
+    let bad = || format!("{s} is not a resolution; allowed: WIDTHxHEIGHT, each in [1, 16384]");
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
     let (w, h): (u32, u32) = (
         w.trim().parse().map_err(|_| bad())?,
@@ -59,7 +107,7 @@ pub fn with_max(vertices: VertexNumber, max: Option<usize>) -> Result<VertexNumb
 
 /// `A,B,C,D` of non-negative integers.
 pub fn parse_u32x4(s: &str) -> std::result::Result<[u32; 4], String> {
-    let bad = || format!("\"{s}\" is not a window; allowed: X0,Y0,X1,Y1 (non-negative integers)");
+    let bad = || format!("{s} is not a window; allowed: X0,Y0,X1,Y1 (non-negative integers)");
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     if parts.len() != 4 {
         return Err(bad());
@@ -115,7 +163,7 @@ pub struct ProblemArgs {
     #[arg(long, value_parser = parse_vertices, default_value = "1", value_name = "K|auto", allow_hyphen_values = true)]
     pub vertices: VertexNumber,
     /// The largest K of --vertices auto [default: 8]
-    #[arg(long, value_name = "K")]
+    #[arg(long, value_name = "K", value_parser = parse_max_vertices, allow_hyphen_values = true)]
     pub max_vertices: Option<usize>,
 }
 
@@ -153,6 +201,22 @@ mod tests {
         assert!(parse_resolution("0x48").unwrap_err().contains("[1, 16384]"));
         assert_eq!(parse_u32x4("0,1,2,3"), Ok([0, 1, 2, 3]));
         assert!(parse_u32x4("0,1,2,-3").is_err());
+        assert_eq!(parse_samples("1024"), Ok(1024));
+        for (text, what) in [
+            ("18446744073709551615", "out of range"),
+            ("1e30", "out of range"),
+            ("-1", "out of range"),
+            ("0", "out of range"),
+            ("2.5", "not a whole number"),
+            ("nan", "not a whole number"),
+        ] {
+            let e = parse_samples(text).unwrap_err();
+            assert_eq!(e, format!("{text} is {what}; allowed: [1, 2^40]"));
+        }
+        assert_eq!(parse_threads("0"), Ok(0));
+        assert!(parse_threads("1025").unwrap_err().contains("[0, 1024]"));
+        assert!(parse_spp("16777217").unwrap_err().contains("[1, 2^24]"));
+        assert!(parse_count("16777217").unwrap_err().contains("[1, 2^24]"));
         assert_eq!(parse_vertices("auto"), Ok(VertexNumber::Auto { max: 8 }));
         assert_eq!(parse_vertices("3"), Ok(VertexNumber::Fixed(3)));
         assert!(parse_vertices("-3").is_err());

@@ -4,7 +4,7 @@
 //! [`omnee_render::point::estimate`]); with `--vertices` the transfer of
 //! K scattering vertices by bridges, against the isotropic closed form.
 
-use super::args::ProblemArgs;
+use super::args::{ProblemArgs, parse_samples, parse_threads};
 use super::summary::{print_result, technique_json};
 use clap::Args;
 use omnee_render::Result;
@@ -22,14 +22,14 @@ pub struct EstimateArgs {
     /// The problem.
     #[command(flatten)]
     pub problem: ProblemArgs,
-    /// Number of samples.
-    #[arg(long, default_value_t = 100_000)]
+    /// Number of samples, [1, 2^40].
+    #[arg(long, default_value_t = 100_000, value_parser = parse_samples, allow_hyphen_values = true)]
     pub samples: u64,
     /// Also compute the reference: the quadrature (f64, docs/math.md §5), with --vertices other than 1 the isotropic closed form (docs/math.md §14.6).
     #[arg(long)]
     pub reference: bool,
-    /// Worker threads (0: one per core).
-    #[arg(long, default_value_t = 0)]
+    /// Worker threads (0: one per core; at most 1024).
+    #[arg(long, default_value_t = 0, value_parser = parse_threads, allow_hyphen_values = true)]
     pub threads: usize,
     /// Print JSON.
     #[arg(long)]

@@ -2,7 +2,7 @@
 //! mean and standard error (the library's
 //! [`omnee_render::scenes::slab::probe`]).
 
-use super::args::parse_vec3;
+use super::args::{parse_samples, parse_threads, parse_vec3};
 use super::summary::{print_result, technique_json};
 use crate::named::closed;
 use clap::Args;
@@ -43,19 +43,19 @@ pub struct ProbeArgs {
     #[arg(long, value_parser = closed::<Choice>(), default_value = "auto")]
     pub technique: Choice,
     /// Restrict the once-more integrand to theta < THETA_MAX (default: the scene's render.theta_max).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub theta_max: Option<f64>,
     /// How the once-more term draws deflections from the medium's phase function.
     #[arg(long, value_parser = closed::<PhaseSampling>(), value_name = "HOW", default_value = "table")]
     pub phase_sampling: PhaseSampling,
-    /// Number of samples.
-    #[arg(long, default_value_t = 100_000)]
+    /// Number of samples, [1, 2^40].
+    #[arg(long, default_value_t = 100_000, value_parser = parse_samples, allow_hyphen_values = true)]
     pub samples: u64,
     /// Random seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Worker threads (0: one per core).
-    #[arg(long, default_value_t = 0)]
+    /// Worker threads (0: one per core; at most 1024).
+    #[arg(long, default_value_t = 0, value_parser = parse_threads, allow_hyphen_values = true)]
     pub threads: usize,
     /// Print JSON.
     #[arg(long)]

@@ -4,7 +4,10 @@
 //! the scene's `[render]` and `[camera]` settings; the library checks and
 //! renders ([`omnee_render::scenes::Scene::render`]).
 
-use super::args::{parse_resolution, parse_u32x4, parse_vertices, with_max};
+use super::args::{
+    parse_max_vertices, parse_resolution, parse_spp, parse_threads, parse_u32x4, parse_vertices,
+    with_max,
+};
 use super::probe::parse_source;
 use crate::named::closed;
 use crate::progress::Bar;
@@ -87,17 +90,17 @@ pub struct RenderArgs {
     /// The scene: a built-in name or a scene file (TOML).
     #[arg(long, value_parser = parse_source, default_value = "default")]
     pub scene: Source,
-    /// Samples per pixel (default: the scene's render.spp).
-    #[arg(long, conflicts_with = "time")]
+    /// Samples per pixel, [1, 2^24] and at most 2^40 samples in all (default: the scene's render.spp).
+    #[arg(long, conflicts_with = "time", value_parser = parse_spp, allow_hyphen_values = true)]
     pub spp: Option<u32>,
-    /// Time budget in seconds: whole passes of one sample per pixel until the next would not fit.
-    #[arg(long)]
+    /// Time budget in seconds, (0, 604800]: whole passes of one sample per pixel until the next would not fit (at most 2^24).
+    #[arg(long, allow_hyphen_values = true)]
     pub time: Option<f64>,
     /// Random seed (default: the scene's render.seed).
     #[arg(long)]
     pub seed: Option<u64>,
-    /// Worker threads (0: one per core).
-    #[arg(long, default_value_t = 0)]
+    /// Worker threads (0: one per core; at most 1024).
+    #[arg(long, default_value_t = 0, value_parser = parse_threads, allow_hyphen_values = true)]
     pub threads: usize,
     /// Resolution WIDTHxHEIGHT (default: the scene's camera.width and height).
     #[arg(long, value_parser = parse_resolution)]
@@ -112,7 +115,7 @@ pub struct RenderArgs {
     #[arg(long, value_parser = closed::<Choice>())]
     pub technique: Option<Choice>,
     /// Restrict the once-more integrand to deflections theta < THETA_MAX (radians, (0, pi]).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub theta_max: Option<f64>,
     /// How the multiple term is estimated (slab scenes; default: the scene's render.multiple).
     #[arg(long, value_parser = closed::<MultipleMethod>(), value_name = "METHOD")]
@@ -121,13 +124,13 @@ pub struct RenderArgs {
     #[arg(long, value_parser = parse_vertices, value_name = "K|auto", allow_hyphen_values = true)]
     pub vertices: Option<VertexNumber>,
     /// The largest order of --vertices auto (default: the scene's render.max_vertices).
-    #[arg(long, value_name = "K")]
+    #[arg(long, value_name = "K", value_parser = parse_max_vertices, allow_hyphen_values = true)]
     pub max_vertices: Option<usize>,
     /// How the once-more and view terms draw deflections from the medium's phase function (slab scenes).
     #[arg(long, value_parser = closed::<PhaseSampling>(), value_name = "HOW", default_value = "table")]
     pub phase_sampling: PhaseSampling,
     /// Russian roulette threshold as a fraction of the scene's reference radiance (0: off).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub russian_roulette: Option<f64>,
     /// PNG exposure in stops (default: automatic).
     #[arg(long, allow_negative_numbers = true)]

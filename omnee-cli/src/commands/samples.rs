@@ -2,7 +2,7 @@
 //! and estimate, as CSV or JSON (the library's
 //! [`omnee_render::point::samples`]).
 
-use super::args::ProblemArgs;
+use super::args::{ProblemArgs, parse_count};
 use super::estimate::lobe_technique_json;
 use super::summary::technique_json;
 use crate::named::closed;
@@ -45,8 +45,8 @@ pub struct SamplesArgs {
     /// The problem.
     #[command(flatten)]
     pub problem: ProblemArgs,
-    /// Number of draws (draws that give no x1 are not listed).
-    #[arg(long, default_value_t = 1000)]
+    /// Number of draws, [1, 2^24] (draws that give no x1 are not listed).
+    #[arg(long, default_value_t = 1000, value_parser = parse_count, allow_hyphen_values = true)]
     pub count: u64,
     /// Output format.
     #[arg(long, value_parser = closed::<SampleFormat>(), default_value = "csv")]

@@ -8,12 +8,14 @@
 //! than once in 10⁴ runs of the whole binary (the bound is derived at each
 //! test), while a biased estimator fails reliably.
 //!
-//! One test binary, a module per area: [`render`] (images, terms, crops,
+//! One test binary, a module per area: [`boundary`] (extreme scales, NaN,
+//! huge counts, hangs), [`render`] (images, terms, crops,
 //! skipping), [`io`] (bad input, file safety, scene choice, help),
 //! [`probe`], [`estimate`] (`estimate`, `samples`, tables) and [`reference`]
 //! (a render against the stored reference), [`underwater`] (the underwater
 //! scene through the command line); [`common`] runs the binary.
 
+mod boundary;
 mod common;
 mod estimate;
 mod io;

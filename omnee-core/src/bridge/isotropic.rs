@@ -15,7 +15,7 @@
 
 use super::MAX_VERTICES;
 use crate::error::{Error, check_closed};
-use crate::quadrature::integrate_geometric;
+use crate::quadrature::Budget;
 
 /// The default evaluation budget of [`isotropic_transfer`]: 10⁶ evaluations of
 /// the integrand (tens of milliseconds); the references of the tests need
@@ -31,7 +31,8 @@ pub const REFERENCE_BUDGET: usize = 1_000_000;
 /// non-finite coefficients, `σt = 0` with `k ≥ 2` (the unattenuated
 /// integral diverges: chains wander off to infinity), and when the
 /// quadrature needs more than `budget` evaluations of the integrand
-/// (`Error::Degenerate` on the field `"budget"`): it never runs longer.
+/// (`Error::NotConverged` on the field `"reference"`, with the evaluations
+/// spent, as every quadrature's [`Budget`]): it never runs longer.
 pub fn isotropic_transfer(
     k: usize,
     s: f64,
@@ -54,21 +55,15 @@ pub fn isotropic_transfer(
         return Ok(0.0);
     }
     let tau = sigma_t * s;
-    let mut evaluations = 0usize;
+    let spend = Budget::new(budget as u64);
     let integrand = |v: f64| {
-        evaluations += 1;
-        if evaluations > budget || !(v > 0.0 && v < 1.0) {
+        if !(v > 0.0 && v < 1.0) {
             return 0.0;
         }
         stretch_density(k, tau, v)
     };
-    let j = integrate_geometric(integrand, 0.0, 1.0, 50, 1e-11);
-    if evaluations > budget {
-        return Err(Error::Degenerate {
-            field: "budget",
-            reason: "exhausted before the quadrature converged",
-        });
-    }
+    let j = spend.integrate_geometric(integrand, 0.0, 1.0, 50, 1e-11);
+    let j = spend.finish("reference", j)?;
     // (2 σt/(π s)) (σs/σt)^k e^{−τ} J, with σt^{1−k} as the albedo's power.
     let mut prefactor = 2.0 * sigma_s / (core::f64::consts::PI * s);
     for _ in 1..k {

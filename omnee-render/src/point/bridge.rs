@@ -223,8 +223,7 @@ pub fn references(p: &Prepared) -> Result<Vec<f64>> {
             p.spelling.of("reference"),
         )));
     }
-    let d = [0, 1, 2].map(|i| problem.x2[i] - problem.x0[i]);
-    let s = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    let s = super::problem::distance(problem.x0, problem.x2);
     let (lo, hi) = p.vertices.range(1);
     let mut out = vec![0.0; hi + 1];
     for (k, slot) in out.iter_mut().enumerate().skip(lo) {
@@ -234,6 +233,9 @@ pub fn references(p: &Prepared) -> Result<Vec<f64>> {
                     omnee_core::Error::OutOfRange {
                         field: "sigma_t", ..
                     } => p.spelling.list(&["sigma_t"]),
+                    omnee_core::Error::NotConverged { .. } => {
+                        return super::estimate::not_converged(p.spelling, e);
+                    }
                     _ => p.spelling.list(&["reference"]),
                 };
                 core_error(&field, e)

@@ -5,7 +5,7 @@
 //! isotropic closed form.
 
 use super::bridge::{self, BridgeEstimate};
-use super::problem::{Precision, Prepared, Problem, X0Lobe};
+use super::problem::{Precision, Prepared, Problem, X0Lobe, contribution};
 use crate::error::{RenderError, Result, Spelling};
 use crate::moments::Moments;
 use crate::parallel::chunked;
@@ -105,9 +105,9 @@ pub fn estimate(
         (true, Precision::F32) => sums_lobe::<f32>(&p, samples, cancel)?,
         (true, Precision::F64) => sums_lobe::<f64>(&p, samples, cancel)?,
     };
+    let (mean, stderr) = in_range(&p, moments.mean_stderr(samples))?;
     let reference = reference.then(|| quadrature(&p)).transpose()?;
     let seconds = start.elapsed().as_secs_f64();
-    let (mean, stderr) = moments.mean_stderr(samples);
     Ok(Estimate {
         mean,
         stderr,
@@ -160,7 +160,7 @@ fn bridge_estimate(
         accepted += a;
     }
     let report = bridge::report(p, samples, &orders, references.as_deref())?;
-    let (mean, stderr) = moments.mean_stderr(samples);
+    let (mean, stderr) = in_range(p, moments.mean_stderr(samples))?;
     Ok(Estimate {
         mean,
         stderr,
@@ -232,7 +232,7 @@ fn sums_lobe<F: Real>(
                 let u = [rng.uniform(), rng.uniform(), rng.uniform()];
                 let s = t.sample(u);
                 accepted += u64::from(s.is_some());
-                m.push(s.map_or(0.0, |s| problem.estimate(&s).to_f64()));
+                m.push(s.map_or(0.0, |s| contribution(problem.f_c(s.x1), &s)));
             }
             (m, accepted)
         })?;
@@ -241,15 +241,46 @@ fn sums_lobe<F: Real>(
     })
 }
 
-/// The f64 quadrature value of the problem (docs/math.md §5, §12.5).
+/// `(mean, stderr)` if both are finite, else an error naming the fields
+/// that set the transfer's size: the mean of an extreme but valid problem
+/// can exceed f64's range (σs = 1e300 at s = 1e-300 gives `I ≈ 1e600`);
+/// it is refused, never printed as ∞ or NaN.
+fn in_range(p: &Prepared, (mean, stderr): (f64, f64)) -> Result<(f64, f64)> {
+    if mean.is_finite() && stderr.is_finite() {
+        return Ok((mean, stderr));
+    }
+    Err(RenderError::Input(format!(
+        "{}: the estimate ({mean} +- {stderr}) is beyond f64's range; allowed: a problem whose \
+         transfer (about sigma_s / |x2 - x0| for a thin medium) and its draws' estimates stay \
+         below {:e}",
+        p.spelling.list(&["x0", "x2", "sigma_s"]),
+        f64::MAX
+    )))
+}
+
+/// The f64 quadrature value of the problem (docs/math.md §5, §12.5), or
+/// the core's `NotConverged` when it spent its evaluation budget
+/// ([`omnee_core::reference::PointToPoint::BUDGET`], a few seconds at
+/// most), named by `reference`.
 fn quadrature(p: &Prepared) -> Result<f64> {
     let mut st = TableStorage::<f64>::default();
     let phase = p.phase.instantiate::<f64>(&mut st)?;
-    if p.lobe.is_some() {
-        p.with_lobe::<f64, _>(|_, problem| Ok(problem.integral(&phase)))
+    let value = if p.lobe.is_some() {
+        p.with_lobe::<f64, _>(|_, problem| Ok(problem.try_integral(&phase)))?
     } else {
-        p.with_sampler::<f64, _>(|sampler| sampler.problem.integral(&phase))
-    }
+        p.with_sampler::<f64, _>(|sampler| sampler.problem.try_integral(&phase))?
+    };
+    value.map_err(|e| not_converged(p.spelling, e))
+}
+
+/// The reference's core error (a spent budget), named by `reference`,
+/// with what to do about it.
+pub(crate) fn not_converged(spelling: Spelling, e: omnee_core::Error) -> RenderError {
+    let reference = spelling.of("reference");
+    RenderError::Input(format!(
+        "{reference}: {e}; allowed: a problem whose reference converges (leave out {reference} \
+         to estimate without it)"
+    ))
 }
 
 #[cfg(test)]

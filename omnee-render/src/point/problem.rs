@@ -8,7 +8,7 @@
 
 use crate::error::{RenderError, Result, Spelling, core_error};
 use crate::phase::{PhaseSpec, TableStorage};
-use crate::range::Range;
+use crate::range::{Range, number};
 use crate::rng::Rng;
 use crate::technique::Resolved;
 use crate::vertices::VertexNumber;
@@ -169,22 +169,34 @@ impl Problem {
                 )
             })
             .transpose()?;
+        // |x2 − x0| without over- or underflow (the core's scaled length):
+        // 1e-300 and 1.6e308 apart are both distances. Only a difference
+        // beyond f64's range, (−MAX, …) to (MAX, …), is refused as such.
         let d = [0, 1, 2].map(|i| x2[i] - x0[i]);
-        let s = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let s = distance(x0, x2);
+        if !s.is_finite() {
+            return Err(RenderError::Input(format!(
+                "{} - {} = {} is beyond f64's range; allowed: points less than {:e} apart \
+                 in each coordinate",
+                name("x2"),
+                name("x0"),
+                numbers(d),
+                f64::MAX
+            )));
+        }
         if !(s > 0.0) {
             return Err(RenderError::Input(format!(
-                "{} = {},{},{} equals {}; allowed: any other point",
+                "{} = {} equals {}; allowed: any other point",
                 name("x2"),
-                x2[0],
-                x2[1],
-                x2[2],
+                numbers(x2),
                 name("x0")
             )));
         }
         let lobe = self.lobe(spelling)?;
         let mut st = TableStorage::<f64>::default();
         let g = phase.instantiate::<f64>(&mut st)?.mean_cosine();
-        let tau = self.sigma_t * s;
+        // τ = σt s, ∞ (a thick medium beyond f64's range) shown as f64::MAX.
+        let tau = (self.sigma_t * s).min(f64::MAX);
         let technique = self.resolve(lobe.is_some(), g, tau, spelling)?;
         let vertices = self.check_vertices(spelling)?;
         Ok(Prepared {
@@ -297,25 +309,37 @@ fn point(spelling: Spelling, field: &str, v: [f64; 3]) -> Result<[f64; 3]> {
         Ok(v)
     } else {
         Err(RenderError::Input(format!(
-            "{} = {},{},{} is not a point; allowed: three finite numbers",
+            "{} = {} is not a point; allowed: three finite numbers",
             spelling.of(field),
-            v[0],
-            v[1],
-            v[2]
+            numbers(v)
         )))
     }
 }
 
-/// `n / |n|`, naming `field` when `n` is zero.
+/// `n / |n|` for a finite `n` of any non-zero length (components from the
+/// smallest subnormal to `f64::MAX`: the core's scaled
+/// [`omnee_core::real::unit_vector`]), naming `field` when `n` is zero.
 pub fn unit_vector(field: &str, n: [f64; 3]) -> Result<[f64; 3]> {
-    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-    if !(len > 0.0) {
-        return Err(RenderError::Input(format!(
-            "{field} = {},{},{} has zero length; allowed: any non-zero vector",
-            n[0], n[1], n[2]
-        )));
-    }
-    Ok([n[0] / len, n[1] / len, n[2] / len])
+    omnee_core::real::unit_vector::<f64>(vec3::<f64>(n))
+        .map(|u| u.to_array())
+        .ok_or_else(|| {
+            RenderError::Input(format!(
+                "{field} = {} has zero length; allowed: any finite non-zero vector",
+                numbers(n)
+            ))
+        })
+}
+
+/// `X,Y,Z` as messages print numbers ([`crate::range::number`]).
+fn numbers(v: [f64; 3]) -> String {
+    v.map(number).join(",")
+}
+
+/// `|x2 − x0|` by the core's scaled length: no over- or underflow of the
+/// squares (1e-300 apart is 1e-300, 1.6e308 apart is 1.6e308); ∞ only when
+/// a difference itself leaves f64's range.
+pub(crate) fn distance(x0: [f64; 3], x2: [f64; 3]) -> f64 {
+    Vector::length(vec3::<f64>([0, 1, 2].map(|i| x2[i] - x0[i])))
 }
 
 /// `a` in precision `F`.
@@ -339,9 +363,22 @@ impl<F: Real> Sampler<'_, F> {
             .draw(self.method, self.connection, || rng.uniform())
     }
 
-    /// A vertex's contribution `f_c(x1) · weight`.
+    /// A vertex's contribution `f_c(x1) · weight`, the product in f64
+    /// ([`contribution`]).
     pub fn estimate(&self, s: &Sample<F>) -> f64 {
-        self.problem.estimate(s).to_f64()
+        contribution(self.problem.f_c(s.x1), s)
+    }
+}
+
+/// `f_c · weight` multiplied in f64 for a sample with a positive weight,
+/// else 0: in f32 the product of `f_c ∝ σs` and `weight ∝ 1/s` leaves the
+/// range at extreme scales (s = 1e-30 with σs ∝ 1/s: 1e59) where each
+/// factor is in it.
+pub fn contribution<F: Real>(f_c: F, s: &Sample<F>) -> f64 {
+    if s.weight > F::ZERO {
+        f_c.to_f64() * s.weight.to_f64()
+    } else {
+        0.0
     }
 }
 
@@ -350,9 +387,21 @@ impl Prepared {
     /// precision `F`.
     fn integrand<F: Real>(&self) -> Result<(Connection<F>, PointToPoint<F>)> {
         let (p, name) = (&self.problem, |fields: &[&str]| self.spelling.list(fields));
-        let connection =
-            Connection::<F>::new(vec3::<F>(p.x0), vec3::<F>(p.x2), F::from_f64(p.theta_max))
-                .map_err(|e| core_error(&name(&["x0", "x2", "theta_max"]), e))?;
+        let theta_max = F::from_f64(p.theta_max);
+        if !(theta_max > F::ZERO) {
+            return Err(RenderError::range(
+                &self.spelling.of("theta_max"),
+                number(p.theta_max),
+                format!(
+                    "(0, pi], at least {:e} (the smallest positive {}; {} = f64 for less)",
+                    (F::MIN_POSITIVE * F::EPSILON).to_f64(),
+                    p.precision,
+                    self.spelling.of("precision")
+                ),
+            ));
+        }
+        let connection = Connection::<F>::new(vec3::<F>(p.x0), vec3::<F>(p.x2), theta_max)
+            .map_err(|e| core_error(&name(&["x0", "x2", "theta_max"]), e))?;
         let medium = Homogeneous::new(F::from_f64(p.sigma_s), F::from_f64(p.sigma_t - p.sigma_s))
             .map_err(|e| core_error(&name(&["sigma_s", "sigma_t"]), e))?;
         let problem = PointToPoint::new(connection, medium, self.normal.map(vec3::<F>))

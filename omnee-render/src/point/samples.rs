@@ -6,9 +6,9 @@
 //! bridge's pdf, weight and estimate (the number that drew `k`, when drawn,
 //! is not listed).
 
-use super::estimate::{STREAM, check_samples};
-use super::problem::{Precision, Prepared, Problem, x1_f64};
-use crate::error::{Result, Spelling};
+use super::estimate::STREAM;
+use super::problem::{Precision, Prepared, Problem, contribution, x1_f64};
+use crate::error::{RenderError, Result, Spelling};
 use crate::parallel::{CHUNK, chunks};
 use crate::rng::Rng;
 use omnee_core::bridge::MAX_VERTICES;
@@ -48,10 +48,20 @@ pub struct Samples {
     pub lobe_probability: Option<f64>,
 }
 
+/// The most draws [`samples`] lists, `2²⁴`: every row is kept in memory
+/// (about 100 bytes each) and printed.
+pub const MAX_COUNT: u64 = 1 << 24;
+
 /// The vertices of `count` draws of `problem` (`count` spelled by
-/// `spelling` as `count`).
+/// `spelling` as `count`, in `[1, MAX_COUNT]`).
 pub fn samples(problem: &Problem, count: u64, spelling: Spelling) -> Result<Samples> {
-    let count = check_samples(&spelling.of("count"), count)?;
+    if !(1..=MAX_COUNT).contains(&count) {
+        return Err(RenderError::range(
+            &spelling.of("count"),
+            count,
+            "[1, 2^24]",
+        ));
+    }
     let p = problem.check(spelling)?;
     let (rows, lobe_probability) = match (p.lobe.is_some(), problem.precision) {
         _ if p.bridges() => match problem.precision {
@@ -143,7 +153,7 @@ fn lobe_rows<F: Real>(p: &Prepared, count: u64) -> Result<(Vec<Row>, Option<f64>
                         x1: x1_f64(&s),
                         pdf: s.pdf.to_f64(),
                         weight: s.weight.to_f64(),
-                        estimate: problem.estimate(&s).to_f64(),
+                        estimate: contribution(problem.f_c(s.x1), &s),
                     });
                 }
             }

@@ -6,7 +6,7 @@
 use crate::error::{RenderError, Result, Spelling};
 use crate::phase::PhaseSampling;
 use crate::range::Range;
-use crate::render::budget::Budget;
+use crate::render::budget::{Budget, MAX_RENDER_SAMPLES, MAX_SECONDS, MAX_SPP};
 use crate::technique::Resolved;
 use crate::vertices::VertexNumber;
 use omnee_core::method::{Choice, MultipleMethod};
@@ -79,15 +79,27 @@ impl RenderSettings {
         terms: &[Term],
         techniques: &[Choice],
     ) -> Result<()> {
+        let window = self.window(spelling)?;
         match self.budget {
             Budget::Spp(n) => {
-                Range::closed(1.0, (1u64 << 24) as f64).check(&spelling.of("spp"), n as f64)?;
+                // At most 2²⁴ passes and 2⁴⁰ samples over the window.
+                let pixels = u64::from(window[2] - window[0]) * u64::from(window[3] - window[1]);
+                let most = (MAX_RENDER_SAMPLES / pixels.max(1)).clamp(1, u64::from(MAX_SPP));
+                if !(1..=most).contains(&u64::from(n)) {
+                    return Err(RenderError::range(
+                        &spelling.of("spp"),
+                        n,
+                        format!(
+                            "[1, {most}] (at most 2^24 passes and 2^40 samples: {pixels} pixels \
+                             rendered)"
+                        ),
+                    ));
+                }
             }
             Budget::Seconds(t) => {
-                Range::POSITIVE.check(&spelling.of("time"), t)?;
+                Range::open_closed(0.0, MAX_SECONDS).check(&spelling.of("time"), t)?;
             }
         }
-        self.window(spelling)?;
         Range::THETA_MAX.check(&spelling.of("theta_max"), self.theta_max)?;
         self.vertices.check(spelling, 2)?;
         Range::UNIT.check(&spelling.of("russian_roulette"), self.russian_roulette)?;
