@@ -17,7 +17,10 @@ use omnee_render::RenderError;
 
 const EXIT_CODES: &str = "\
 Exit codes: 0 success, 1 a file could not be written, 2 bad input (the message names
-the field, its value and the allowed range).";
+the field, its value and the allowed range; also an answer beyond f64's range and a
+--reference whose quadrature spent its budget), 130 cancelled.
+Limits: --samples [1, 2^40], samples --count [1, 2^24], --threads [0, 1024],
+--spp [1, 2^24] and 2^40 samples in all, --time (0, 604800] seconds.";
 
 /// The text after the options: the phase specs (the core's [`PhaseKind`]s),
 /// the techniques (the core's [`Choice`]s) and the exit codes.

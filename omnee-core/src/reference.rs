@@ -189,9 +189,10 @@ impl<F: Real> PointToPoint<F> {
             // Near θ = π the path length is long except close to r = 0 and
             // r = 1: layers of width ≈ sinc θ / (σt s) at both ends, resolved
             // by geometric panels towards each end.
+            // (∞ for σt s beyond f64: log2 saturates, so do the levels.)
             let thickness = sigma_t * s / sinc_theta;
             let levels = if thickness > 4.0 {
-                (libm::log2(thickness) as u32 + 4).min(60)
+                (libm::log2(thickness) as u32).saturating_add(4).min(60)
             } else {
                 0
             };

@@ -168,9 +168,43 @@ try {
   await page.locator('#spec').press('Enter');
   const err = await page.locator('#error').textContent();
   check(err.includes('g = 1.5') && err.includes('(-1, 1)'), `g out of range is reported: "${err}"`);
+  await page.locator('#spec').fill('hg:nan');
+  await page.locator('#spec').press('Enter');
+  const nan = await page.locator('#error').textContent();
+  check(nan.startsWith('g = NaN is out of range'), `a NaN in a spec is named: "${nan}"`);
   await page.locator('#spec').fill('hg:0.9');
   await page.locator('#spec').press('Enter');
   check((await page.locator('#error').textContent()) === '', 'a valid spec clears the error');
+
+  // Extreme numbers from JavaScript: an Error naming the field, or finite numbers; never a trap.
+  const extreme = await page.evaluate(async () => {
+    const m = await import('./pkg/omnee_wasm.js');
+    const thrown = (f) => { try { f(); return 'no error'; } catch (e) { return e instanceof Error ? e.message : 'not an Error'; } };
+    const d = new m.Demo('hg:0.5', 0, 0, 1e-30, 0, 0.5e30, 0.05e30, Math.PI, 1);
+    d.run(1000);
+    const e = d.estimate('mis');
+    const out = {
+      tiny: [e.mean, e.stdError, e.relativeError],
+      counts: [1e30, -1, NaN, Infinity, 2 ** 24 + 1].map((n) => thrown(() => d.run(n))),
+      cloud: thrown(() => d.cloud('omnee', 1e30, 1)),
+      histogram: thrown(() => m.histogram('iso', -1, 8, 1, 1)),
+      nan: [NaN, Infinity, -Infinity].map((x) => thrown(() => new m.Demo('iso', 0, 0, x, 0, 0.1, 0.1, Math.PI, 1))),
+      sigma: thrown(() => new m.Demo('iso', 0, 0, 1, 0, NaN, 0.1, Math.PI, 1)),
+      huge: thrown(() => new m.Demo('iso', 0, 0, 1e-300, 0, 5e299, 5e298, Math.PI, 1)),
+      apart: thrown(() => new m.Demo('iso', -1e308, 0, 1e308, 0, 0.1, 0.1, Math.PI, 1)),
+    };
+    d.free();
+    return out;
+  });
+  check(extreme.tiny.every(Number.isFinite) && extreme.tiny[2] < 0.1,
+    `s = 1e-30, σ × 1e30: MIS ${extreme.tiny[0].toExponential(4)} ± ${extreme.tiny[1].toExponential(2)}`);
+  check(extreme.counts.every((m) => m.startsWith('n = ') && m.includes('[1, 16777216]')),
+    `huge, negative and NaN counts are refused: ${extreme.counts.join(' | ')}`);
+  check(extreme.cloud.startsWith('n = ') && extreme.histogram.startsWith('n = '), `${extreme.cloud} | ${extreme.histogram}`);
+  check(extreme.nan.every((m) => m.startsWith('x2')) && extreme.sigma.startsWith('sigma_s'),
+    `NaN and ∞ are named: ${extreme.nan.join(' | ')} | ${extreme.sigma}`);
+  check(extreme.huge.startsWith('reference: ') && !extreme.huge.includes('NaN'), `a transfer of 1e600 is an Error: ${extreme.huge}`);
+  check(extreme.apart.startsWith('x2 - x0'), `points 2e308 apart are named: ${extreme.apart}`);
 
   // Live convergence against the quadrature reference (θmax = π, σs = 0.2, σa = 0.05).
   await page.waitForFunction(() => window.omnee.state.demo.estimate('omnee').count >= 2e6, null, { timeout: 60000 });

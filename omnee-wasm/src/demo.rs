@@ -112,18 +112,47 @@ pub const TECHNIQUES: [Technique; 5] = [
 /// The techniques without a lobe at `x0`: the first three of [`TECHNIQUES`].
 pub const PLAIN: [Technique; 3] = [Technique::Omnee, Technique::Equiangular, Technique::Mis];
 
-/// Mean and variance of a stream of estimates (Welford's update).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// Mean and variance of a stream of estimates (Welford's update), kept
+/// relative to a power of two `scale` (exact), so that the squares of
+/// estimates near 1e300 or 1e-300 neither overflow nor underflow.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Running {
     count: u64,
     mean: f64,
     m2: f64,
+    scale: f64,
+}
+
+impl Default for Running {
+    /// No estimates, scale 1.
+    fn default() -> Self {
+        Self::relative_to(1.0)
+    }
 }
 
 impl Running {
+    /// No estimates, kept relative to `2⁻ᵉ` with `2ᵉ ≤ |r| < 2ᵉ⁺¹` (the
+    /// estimates of an integral `r` are then near 1); scale 1 for a zero,
+    /// subnormal or non-finite `r`.
+    pub fn relative_to(r: f64) -> Self {
+        let e = ((r.to_bits() >> 52) & 0x7ff).min(2045);
+        let scale = if r.is_normal() {
+            f64::from_bits((2046 - e) << 52)
+        } else {
+            1.0
+        };
+        Self {
+            count: 0,
+            mean: 0.0,
+            m2: 0.0,
+            scale,
+        }
+    }
+
     /// Adds one estimate.
     #[inline]
     pub fn push(&mut self, x: f64) {
+        let x = x * self.scale;
         self.count += 1;
         let delta = x - self.mean;
         self.mean += delta / self.count as f64;
@@ -137,7 +166,7 @@ impl Running {
 
     /// Their mean, the running estimate of the integral (0 before any).
     pub fn mean(&self) -> f64 {
-        self.mean
+        self.mean / self.scale
     }
 
     /// The standard error of the mean, `√(s²/n)` (0 for fewer than 2).
@@ -146,7 +175,7 @@ impl Running {
             0.0
         } else {
             let n = self.count as f64;
-            Real::sqrt(self.m2 / (n - 1.0) / n)
+            Real::sqrt(self.m2 / (n - 1.0) / n) / self.scale
         }
     }
 }
@@ -220,7 +249,7 @@ impl Problem {
         let connection = Connection::new(plane_point(x0), plane_point(x2), theta_max)?;
         let problem = PointToPoint::new(connection, Homogeneous::new(sigma_s, sigma_a)?, None)?;
         let (lobe, reference) = match tilt {
-            None => (None, Self::plain_reference(&problem, &phase)),
+            None => (None, Self::plain_reference(&problem, &phase)?),
             Some(tilt) => {
                 let lobe = Lobe::new(phase, incoming(&connection, tilt)?)?;
                 let lobed = LobeMis::recommended(connection, lobe, phase);
@@ -234,15 +263,19 @@ impl Problem {
             reference,
             seed,
             rngs: Self::fresh_rngs(seed),
-            stats: [Running::default(); 5],
+            stats: [Running::relative_to(reference); 5],
         })
     }
 
-    /// `PointToPoint::integral` with θmax capped at [`REFERENCE_THETA_MAX`].
-    fn plain_reference(problem: &PointToPoint<f64>, phase: &DemoPhase<f64>) -> f64 {
+    /// `PointToPoint::try_integral` with θmax capped at
+    /// [`REFERENCE_THETA_MAX`]: `NotConverged` (field `"reference"`) when
+    /// the quadrature spent its budget or its value left f64's range (an
+    /// extreme problem such as σs = 1e300 at s = 1e-300, whose integral is
+    /// 1e600), so that the page never shows NaN or ∞.
+    fn plain_reference(problem: &PointToPoint<f64>, phase: &DemoPhase<f64>) -> Result<f64, Error> {
         let mut capped = *problem;
         capped.connection.theta_max = capped.connection.theta_max.min(REFERENCE_THETA_MAX);
-        capped.integral(phase)
+        capped.try_integral(phase)
     }
 
     /// One generator stream per technique, `1 + slot`.
@@ -309,7 +342,7 @@ impl Problem {
     /// Forgets all estimates and restarts the generators from the seed.
     pub fn reset(&mut self) {
         self.rngs = Self::fresh_rngs(self.seed);
-        self.stats = [Running::default(); 5];
+        self.stats = [Running::relative_to(self.reference); 5];
     }
 
     /// Draws `n` more samples (1 ..= [`MAX_RUN`]) with each of the

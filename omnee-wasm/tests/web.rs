@@ -247,3 +247,44 @@ fn techniques_are_the_demos_names_and_other_strings_are_refused() {
         );
     }
 }
+
+#[wasm_bindgen_test]
+fn extreme_scales_give_finite_numbers_or_an_error_naming_the_field() {
+    // s = 1e-30 with σ scaled: the transfer 3e59, finite estimates.
+    let s = 1e-30;
+    let mut d = demo("hg:0.5", [0.0, 0.0], [s, 0.0], (0.5 / s, 0.05 / s, PI));
+    d.run(2000).unwrap();
+    for t in [Technique::Omnee, Technique::Mis] {
+        let e = d.estimate(t).unwrap();
+        let (mean, err, rel) = (
+            get(&e, "mean"),
+            get(&e, "stdError"),
+            get(&e, "relativeError"),
+        );
+        assert!(
+            mean > 1e59 && err.is_finite() && rel < 0.1,
+            "{mean} {err} {rel}"
+        );
+    }
+    // s = 1e-300 with σs = 5e299: the transfer 1e600, an Error naming the
+    // reference, no NaN in it.
+    let thrown = Demo::new("iso", 0.0, 0.0, 1e-300, 0.0, 5e299, 5e298, PI, 1, None)
+        .map(|_| ())
+        .unwrap_err();
+    let m = message(&thrown);
+    assert!(m.starts_with("reference: ") && !m.contains("NaN"), "{m}");
+    // Points 1.6e308 apart: the transfer underflows to 0, estimates 0.
+    let mut d = demo("iso", [-8e307, 0.0], [8e307, 0.0], (0.5, 0.05, PI));
+    d.run(100).unwrap();
+    let e = d.estimate(Technique::Mis).unwrap();
+    assert_eq!((get(&e, "mean"), get(&e, "stdError")), (0.0, 0.0));
+    // A difference beyond f64: an Error.
+    let thrown = Demo::new("iso", -1e308, 0.0, 1e308, 0.0, 0.5, 0.05, PI, 1, None)
+        .map(|_| ())
+        .unwrap_err();
+    assert!(
+        message(&thrown).starts_with("x2 - x0"),
+        "{}",
+        message(&thrown)
+    );
+}
