@@ -16,7 +16,7 @@ For every camera sample, wavefront style (one array of rows per step):
    `f_c = I · V(x0, x1) T(x0, x1) · σs(x1) · T(x1, x2) V(x1, x2) · f(x2) cos θ2`
    (docs/math.md §1.1; Mitsuba's `bsdf.eval` includes the cosine).
 
-The medium is homogeneous inside an axis-aligned box (`scene.Fog`), so the
+The medium is homogeneous inside an axis-aligned box (`Fog`), so the
 transmittance of a segment is `exp(−σt ℓ)` with `ℓ` its length inside the
 box. Everything but the omnee call is Dr.Jit arithmetic on Mitsuba arrays,
 so it needs an array variant (`llvm_ad_rgb`, `cuda_ad_rgb`); numpy carries
@@ -25,6 +25,7 @@ the rows into omnee and back.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Tuple
 
 import drjit as dr
@@ -32,7 +33,17 @@ import mitsuba as mi
 import numpy as np
 import omnee
 
-from scene import Fog
+
+@dataclass(frozen=True)
+class Fog:
+    """What the OMNEE side knows of the medium: its box, its coefficients
+    and its phase function (an omnee phase spec)."""
+
+    lo: np.ndarray
+    hi: np.ndarray
+    sigma_s: float
+    sigma_t: float
+    phase: str
 
 
 def rows(v) -> np.ndarray:

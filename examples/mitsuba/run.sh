@@ -22,7 +22,11 @@ find_llvm() {
   local lib best="" best_version=0 version
   for lib in /usr/lib/*/libLLVM-[0-9]*.so /usr/lib/*/libLLVM.so.[0-9]* /usr/lib/llvm-*/lib/libLLVM*.so*; do
     [ -e "$lib" ] || continue
-    version="$(basename "$lib" | grep -oE '[0-9]+' | head -n 1)"
+    # The major version: from the file's name (libLLVM-19.so, libLLVM.so.19.1),
+    # else from its folder (/usr/lib/llvm-19/lib/libLLVM.so).
+    version="$(basename "$lib" | grep -oE '[0-9]+' | head -n 1 || true)"
+    [ -n "$version" ] || version="$(echo "$lib" | grep -oE 'llvm-[0-9]+' | grep -oE '[0-9]+' | head -n 1 || true)"
+    [ -n "$version" ] || continue
     if [ "$version" -ge 16 ] && [ "$version" -gt "$best_version" ]; then
       best="$lib" best_version="$version"
     fi

@@ -17,7 +17,6 @@ shadow of the plate. Mitsuba's `volpath` with `max_depth = 3` computes
 exactly these two terms here (README.md says why).
 """
 
-from dataclasses import dataclass
 from typing import Dict, List, Tuple
 
 import numpy as np
@@ -35,8 +34,9 @@ G = 0.9  # Henyey–Greenstein g; g > 0 scatters forward in Mitsuba and omnee al
 LIGHTS: Dict[str, Vec3] = {"inside": (0.0, 0.0, 0.95), "above": (0.0, 0.0, 1.5)}
 INTENSITY = 1.0
 
-# The screen: a diffuse transmitter (Mitsuba's `difftrans`), 1 mm under the
-# fog so that it does not share a plane with the fog's boundary.
+# The screen: a diffuse transmitter (the plugin of screen_bsdf.py: Mitsuba
+# 3.9.1 has none), 1 mm under the fog so that it does not share a plane
+# with the fog's boundary.
 SCREEN_Z = -0.001
 SCREEN_TRANSMITTANCE = 0.5
 
@@ -52,20 +52,10 @@ CAMERA_ORIGIN: Vec3 = (0.0, 0.0, -2.0)
 FOV_Y = 50.0  # degrees, vertical
 
 
-@dataclass(frozen=True)
-class Fog:
-    """What the OMNEE side knows of the medium: its box, its coefficients
-    and its phase function (an omnee phase spec)."""
+def fog():
+    """The fog of this scene for the OMNEE side (an `omnee_mitsuba.Fog`)."""
+    from omnee_mitsuba import Fog
 
-    lo: np.ndarray
-    hi: np.ndarray
-    sigma_s: float
-    sigma_t: float
-    phase: str
-
-
-def fog() -> Fog:
-    """The fog of this scene for the OMNEE side."""
     return Fog(np.array(FOG_LO), np.array(FOG_HI), SIGMA_S, SIGMA_S + SIGMA_A, f"hg:{G}")
 
 
