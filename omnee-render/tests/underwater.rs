@@ -28,7 +28,7 @@ use omnee_core::phase::{Deflection, PhaseFunction};
 use omnee_core::reference::PointToPoint;
 use omnee_core::sampling::Connection;
 use omnee_render::phase::TableStorage;
-use omnee_render::render::budget::Budget;
+use omnee_render::render::budget::RenderBudget;
 use omnee_render::render::{Options, render};
 use omnee_render::rng::Rng;
 use omnee_render::scenes::underwater::UnderwaterScene;
@@ -494,7 +494,7 @@ fn splatting_is_deterministic_for_any_thread_count_and_crops_sum_to_the_image() 
     let phase = scene.phase.instantiate(&mut storage).unwrap();
     let world = UnderwaterWorld::new(&scene, phase, 160, 120);
     let opt = |crop| Options {
-        budget: Budget::Spp(2),
+        budget: RenderBudget::Spp(2),
         seed: 5,
         crop,
     };

@@ -18,7 +18,7 @@ use omnee_render::image::{Layers, tone_map};
 use omnee_render::parallel::with_threads;
 use omnee_render::phase::PhaseSampling;
 use omnee_render::render::Rendered;
-use omnee_render::render::budget::Budget;
+use omnee_render::render::budget::RenderBudget;
 use omnee_render::scenes::underwater::UNDERWATER_TERMS;
 use omnee_render::scenes::{RenderReport, RenderSettings, Scene, SceneStats, Source};
 use omnee_render::vertices::VertexNumber;
@@ -168,9 +168,9 @@ impl RenderArgs {
             ));
         }
         if let Some(n) = self.spp {
-            s.budget = Budget::Spp(n);
+            s.budget = RenderBudget::Spp(n);
         } else if let Some(t) = self.time {
-            s.budget = Budget::Seconds(t);
+            s.budget = RenderBudget::Seconds(t);
         }
         if let Some((w, h)) = self.resolution {
             (s.width, s.height) = (w, h);

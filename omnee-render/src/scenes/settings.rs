@@ -6,7 +6,7 @@
 use crate::error::{RenderError, Result, Spelling};
 use crate::phase::PhaseSampling;
 use crate::range::Range;
-use crate::render::budget::Budget;
+use crate::render::budget::RenderBudget;
 use crate::technique::Resolved;
 use crate::vertices::VertexNumber;
 use omnee_core::method::{Choice, MultipleMethod};
@@ -19,7 +19,7 @@ use omnee_core::term::Term;
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderSettings {
     /// Samples (passes) per pixel, or a time budget.
-    pub budget: Budget,
+    pub budget: RenderBudget,
     /// Random seed.
     pub seed: u64,
     /// Image width in pixels.
@@ -80,10 +80,10 @@ impl RenderSettings {
         techniques: &[Choice],
     ) -> Result<()> {
         match self.budget {
-            Budget::Spp(n) => {
+            RenderBudget::Spp(n) => {
                 Range::closed(1.0, (1u64 << 24) as f64).check(&spelling.of("spp"), n as f64)?;
             }
-            Budget::Seconds(t) => {
+            RenderBudget::Seconds(t) => {
                 Range::POSITIVE.check(&spelling.of("time"), t)?;
             }
         }

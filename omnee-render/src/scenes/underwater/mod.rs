@@ -33,7 +33,7 @@ pub use transport::{UNDERWATER_TERMS, UnderwaterStats, UnderwaterWorld};
 use crate::camera::Pinhole;
 use crate::error::Result;
 use crate::phase::TableStorage;
-use crate::render::budget::Budget;
+use crate::render::budget::RenderBudget;
 use crate::render::{Options, Progress, Rendered};
 use crate::scenes::settings::{RenderReport, RenderSettings};
 use crate::technique::Resolved;
@@ -149,7 +149,7 @@ impl UnderwaterScene {
     pub fn settings(&self) -> RenderSettings {
         let r = &self.render;
         RenderSettings {
-            budget: Budget::Spp(r.spp),
+            budget: RenderBudget::Spp(r.spp),
             seed: r.seed,
             width: self.camera.width,
             height: self.camera.height,
