@@ -14,9 +14,21 @@ import numpy as np
 import numpy.typing as npt
 from typing_extensions import disjoint_base
 
-from . import Estimate, Inversion, Samples
+from . import BridgeSamples, Estimate, Inversion, Samples
 
-__all__ = ["Phase", "Technique", "Omnee", "Equiangular", "Distance", "Mis", "estimate", "__version__"]
+__all__ = [
+    "Phase",
+    "Technique",
+    "Omnee",
+    "Equiangular",
+    "Distance",
+    "Mis",
+    "estimate",
+    "Bridge",
+    "isotropic_transfer",
+    "NotConvergedError",
+    "__version__",
+]
 
 _ArrayLike = npt.ArrayLike
 _FloatArray = npt.NDArray[np.floating[Any]]
@@ -222,6 +234,8 @@ def estimate(
     dtype: Optional[npt.DTypeLike] = None,
     reference: bool = True,
     threads: int = 0,
+    vertices: Union[int, str] = 1,
+    max_vertices: Optional[int] = None,
 ) -> Estimate:
     """The once-more scattered transfer from a unit point light at x0 to a
     point receiver at x2 through an infinite homogeneous medium,
@@ -231,3 +245,31 @@ def estimate(
     float64 (default) or float32; ``phase`` default ``iso``; ``threads`` 0:
     one per core), with the f64 quadrature reference when ``reference`` is
     True. Ctrl-C interrupts it between chunks of draws."""
+
+class NotConvergedError(RuntimeError):
+    """A quadrature reference spent its evaluation budget before meeting its
+    tolerance: no value is returned (the input was valid)."""
+
+@final
+class Bridge:
+    """Bridges of k scattering vertices between x0 and x2 with ``phase`` at
+    every vertex (docs/math.md §14); density
+    ``s³ k! Π q(θ_i) / (Π d_j² D^{k+1})`` in the product of volume measures."""
+
+    def __new__(cls, *, x0: _Point, x2: _Point, phase: Optional[_PhaseLike] = None) -> "Bridge": ...
+    def sample(self, u: _ArrayLike) -> BridgeSamples:
+        """Bridges from ``u`` of shape ``(..., k, 3)`` in [0, 1], k in [1, 32]."""
+    def pdf(self, vertices: _ArrayLike) -> Any:
+        """The density of ``sample`` at the paths ``x0, vertices[..., :, :], x2``."""
+    @property
+    def x0(self) -> Tuple[float, float, float]: ...
+    @property
+    def x2(self) -> Tuple[float, float, float]: ...
+    @property
+    def phase(self) -> Phase: ...
+
+def isotropic_transfer(
+    k: int, *, s: float, sigma_s: float, sigma_t: float, budget: int = 1000000
+) -> float:
+    """The exact I_k for isotropic scattering (docs/math.md §14.6); raises
+    ``NotConvergedError`` when the quadrature spends ``budget`` evaluations."""
