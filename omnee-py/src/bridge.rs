@@ -4,8 +4,10 @@
 //! scattering (the core's [`isotropic_transfer`]).
 
 use crate::array::{
-    Bad, Floats, first_outside, floats, number, rows, shape_text, slice, vec3, with_axes, zeros,
+    Bad, Floats, first_outside, floats, number, rows, shape_text, slice, slice_mut, vec3,
+    with_axes, zeros,
 };
+use crate::chunks::{Items, run};
 use crate::error;
 use crate::phase::Phase;
 use numpy::{Element, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
@@ -83,7 +85,6 @@ impl Bridge {
         }
         let mut storage = TableStorage::<F>::default();
         let bridge = self.core::<F>(&mut storage)?;
-        let n: usize = lead.iter().product();
         let (vertices, pdf, weight, length, valid) = (
             zeros::<F>(py, &with_axes(&lead, &[k, 3])),
             zeros::<F>(py, &lead),
@@ -99,28 +100,55 @@ impl Bridge {
                 length.readwrite(),
                 valid.readwrite(),
             );
-            let (xs, ps, ws, ls, vs) = (
-                crate::array::slice_mut(&mut xv),
-                crate::array::slice_mut(&mut pv),
-                crate::array::slice_mut(&mut wv),
-                crate::array::slice_mut(&mut lv),
-                crate::array::slice_mut(&mut vv),
+            let all = (
+                Items { data, k: 3 * k },
+                (
+                    Items {
+                        data: slice_mut(&mut xv),
+                        k: 3 * k,
+                    },
+                    Items {
+                        data: slice_mut(&mut pv),
+                        k: 1,
+                    },
+                ),
+                Items {
+                    data: slice_mut(&mut wv),
+                    k: 1,
+                },
+                Items {
+                    data: slice_mut(&mut lv),
+                    k: 1,
+                },
+                Items {
+                    data: slice_mut(&mut vv),
+                    k: 1,
+                },
             );
-            let mut ui = [[F::ZERO; 3]; MAX_VERTICES];
-            let mut x = [bridge.axis.x0; MAX_VERTICES];
-            for row in 0..n {
-                let numbers = &data[row * 3 * k..(row + 1) * 3 * k];
-                for (slot, c) in ui.iter_mut().zip(numbers.chunks_exact(3)) {
-                    *slot = [c[0], c[1], c[2]];
-                }
-                if let Some(s) = bridge.sample(&ui[..k], &mut x[..k]) {
-                    for (j, xj) in x[..k].iter().enumerate() {
-                        xs[(row * k + j) * 3..(row * k + j + 1) * 3]
-                            .copy_from_slice(&xj.to_array());
+            let bridge = &bridge;
+            // The GIL released, on all cores for long arrays; nothing fails.
+            let Ok(()) = py.detach(|| {
+                run(all, |_, (u, (xs, ps), ws, ls, vs)| {
+                    let mut ui = [[F::ZERO; 3]; MAX_VERTICES];
+                    let mut x = [bridge.axis.x0; MAX_VERTICES];
+                    for (row, numbers) in u.data.chunks_exact(3 * k).enumerate() {
+                        for (slot, c) in ui.iter_mut().zip(numbers.chunks_exact(3)) {
+                            *slot = [c[0], c[1], c[2]];
+                        }
+                        if let Some(s) = bridge.sample(&ui[..k], &mut x[..k]) {
+                            let out = &mut xs.data[row * 3 * k..(row + 1) * 3 * k];
+                            for (o, xj) in out.chunks_exact_mut(3).zip(&x[..k]) {
+                                o.copy_from_slice(&xj.to_array());
+                            }
+                            ps.data[row] = s.pdf;
+                            ws.data[row] = s.weight;
+                            ls.data[row] = s.length;
+                            vs.data[row] = true;
+                        }
                     }
-                    (ps[row], ws[row], ls[row], vs[row]) = (s.pdf, s.weight, s.length, true);
-                }
-            }
+                    Ok::<(), std::convert::Infallible>(())
+                })
+            });
         }
         py.import("omnee")?.getattr("BridgeSamples")?.call1((
             crate::array::result(vertices)?,
@@ -151,19 +179,29 @@ impl Bridge {
         }
         let mut storage = TableStorage::<F>::default();
         let bridge = self.core::<F>(&mut storage)?;
-        let n: usize = lead.iter().product();
         let out = zeros::<F>(py, &lead);
         {
             let mut ov = out.readwrite();
-            let os = crate::array::slice_mut(&mut ov);
-            let mut x = [bridge.axis.x0; MAX_VERTICES];
-            for (row, slot) in os.iter_mut().enumerate().take(n) {
-                for (j, xj) in x[..k].iter_mut().enumerate() {
-                    let c = &data[(row * k + j) * 3..(row * k + j + 1) * 3];
-                    *xj = F::Vec3::new(c[0], c[1], c[2]);
-                }
-                *slot = bridge.pdf(&x[..k]);
-            }
+            let all = (
+                Items { data, k: 3 * k },
+                Items {
+                    data: slice_mut(&mut ov),
+                    k: 1,
+                },
+            );
+            let bridge = &bridge;
+            let Ok(()) = py.detach(|| {
+                run(all, |_, (points, out)| {
+                    let mut x = [bridge.axis.x0; MAX_VERTICES];
+                    for (slot, row) in out.data.iter_mut().zip(points.data.chunks_exact(3 * k)) {
+                        for (xj, c) in x[..k].iter_mut().zip(row.chunks_exact(3)) {
+                            *xj = F::Vec3::new(c[0], c[1], c[2]);
+                        }
+                        *slot = bridge.pdf(&x[..k]);
+                    }
+                    Ok::<(), std::convert::Infallible>(())
+                })
+            });
         }
         crate::array::result(out)
     }
@@ -287,4 +325,111 @@ pub fn isotropic_transfer_py(
         )));
     }
     isotropic_transfer(k, s, sigma_s, sigma_t, budget).map_err(error::core)
+}
+
+/// The number of bridge vertices `k ∈ [1, k_max]` drawn per connection
+/// (docs/math.md §14.7): a Poisson distribution of mean
+/// `μ = σs s (1 + (1 − |g|) σt s / 2)` truncated to `[1, k_max]`, mixed with
+/// the uniform one for the share 0.2, `g` the phase function's mean cosine.
+/// Drawing `k`, a bridge of `k` vertices, and dividing its estimate by `P(k)`
+/// estimates `Σ_{k=1}^{k_max} I_k` without bias. Computed in f64.
+#[pyclass(module = "omnee", frozen)]
+#[derive(Clone, Debug)]
+pub struct VertexCount {
+    count: core_bridge::VertexCount<f64>,
+}
+
+#[pymethods]
+impl VertexCount {
+    #[new]
+    #[pyo3(signature = (k_max = 8, *, s, sigma_s, sigma_t, phase = None),
+           text_signature = "(k_max=8, *, s, sigma_s, sigma_t, phase=None)")]
+    fn new(
+        k_max: i128,
+        s: f64,
+        sigma_s: f64,
+        sigma_t: f64,
+        phase: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        let k_max = usize::try_from(k_max)
+            .ok()
+            .filter(|k| (1..=MAX_VERTICES).contains(k))
+            .ok_or_else(|| {
+                PyValueError::new_err(format!(
+                    "k_max = {k_max} is out of range; allowed: [1, {MAX_VERTICES}]"
+                ))
+            })?;
+        let g = match phase {
+            Some(p) => crate::technique::phase_arg(p)?.mean_cosine_f64()?,
+            None => 0.0,
+        };
+        let count =
+            core_bridge::VertexCount::new(k_max, s, sigma_s, sigma_t, g).map_err(error::core)?;
+        Ok(Self { count })
+    }
+
+    /// `(k, probability)`: `k` (int64) drawn by inversion from each uniform
+    /// number of `u` in [0, 1] (else `ValueError`, NaN included) and `P(k)`
+    /// (float64), both of `u`'s shape.
+    fn sample<'py>(
+        &self,
+        py: Python<'py>,
+        u: &Bound<'py, PyAny>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        let u = match floats("u", u)? {
+            Floats::F32(a) => a.as_array().mapv(f64::from).into_dyn(),
+            Floats::F64(a) => a.as_array().to_owned(),
+        };
+        let shape = u.shape().to_vec();
+        let data: Vec<f64> = u.iter().copied().collect();
+        if let Some((at, v)) = first_outside(&data, 0.0, 1.0) {
+            return Err(Bad::Element {
+                arg: "u",
+                at,
+                value: number(v),
+                allowed: "[0, 1]",
+            }
+            .into_err(&shape));
+        }
+        let (k, p) = (zeros::<i64>(py, &shape), zeros::<f64>(py, &shape));
+        {
+            let (mut kv, mut pv) = (k.readwrite(), p.readwrite());
+            for ((ki, pi), &ui) in slice_mut(&mut kv)
+                .iter_mut()
+                .zip(slice_mut(&mut pv))
+                .zip(&data)
+            {
+                let (kk, pk) = self.count.sample(ui);
+                (*ki, *pi) = (kk as i64, pk);
+            }
+        }
+        Ok((crate::array::result(k)?, crate::array::result(p)?))
+    }
+
+    /// `P(k)` for each integer of `k` (0 outside `[1, k_max]`).
+    fn pmf<'py>(&self, py: Python<'py>, k: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let np = py.import("numpy")?;
+        let k = np.getattr("asarray")?.call1((k, "int64"))?;
+        let k = k.cast::<numpy::PyArrayDyn<i64>>()?.readonly();
+        let out = zeros::<f64>(py, k.shape());
+        {
+            let mut ov = out.readwrite();
+            for (o, &ki) in slice_mut(&mut ov).iter_mut().zip(k.as_array().iter()) {
+                *o = usize::try_from(ki).map_or(0.0, |ki| self.count.pmf(ki));
+            }
+        }
+        crate::array::result(out)
+    }
+
+    /// The largest `k`.
+    #[getter]
+    fn k_max(&self) -> usize {
+        self.count.k_max()
+    }
+
+    /// The Poisson mean μ before truncation.
+    #[getter]
+    fn mean(&self) -> f64 {
+        self.count.mean()
+    }
 }

@@ -46,6 +46,7 @@ fn _omnee(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<technique::Distance>()?;
     m.add_class::<technique::Mis>()?;
     m.add_class::<bridge::Bridge>()?;
+    m.add_class::<bridge::VertexCount>()?;
     m.add_function(wrap_pyfunction!(estimate::estimate, m)?)?;
     m.add_function(wrap_pyfunction!(bridge::isotropic_transfer_py, m)?)?;
     m.add(

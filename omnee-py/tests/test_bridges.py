@@ -4,6 +4,7 @@ isotropic closed form within 4.5 standard errors (fixed seeds), bad input as
 ValueErrors naming the argument, a spent budget as NotConvergedError."""
 
 import json
+import struct
 import subprocess
 
 import numpy as np
@@ -143,3 +144,29 @@ def test_a_spent_budget_is_not_converged_error():
         omnee.isotropic_transfer(3, s=1.0, budget=20, **MEDIUM)
     # The same with its default budget converges.
     assert omnee.isotropic_transfer(3, s=1.0, **MEDIUM) > 0.0
+
+
+def test_vertex_count_matches_the_c_api_and_its_frequencies():
+    x0, x2 = np.array([0.3, -0.2, 1.1]), np.array([-0.1, 0.4, 0.2])
+    count = omnee.VertexCount(8, s=float(np.linalg.norm(x2 - x0)), phase="hg:0.9", **MEDIUM)
+    # The f64 "vertex count" line of omnee-ffi's bit patterns (u = 0.1, 0.5, 0.9, 0.999).
+    k, p = count.sample(np.array([0.1, 0.5, 0.9, 0.999]))
+    assert k.dtype == np.int64 and list(k) == [1, 1, 5, 8]
+    c_bits = ["3fe38923d77466a7", "3fe38923d77466a7", "3f9a39d05c2e2400", "3f9999b34d5051e0"]
+    c_values = [struct.unpack(">d", bytes.fromhex(h))[0] for h in c_bits]
+    # s is formed here by numpy, in the C API by the connection: equal to an ulp.
+    np.testing.assert_allclose(p, c_values, rtol=1e-13)
+    pmf = count.pmf(np.arange(0, 10))
+    assert pmf[0] == 0.0 and pmf[9] == 0.0 and pmf[1:9].sum() == pytest.approx(1.0, abs=1e-12)
+    # Drawn frequencies against P(k), each within 4.5 binomial standard errors.
+    n = 200_000
+    k, p = count.sample(np.random.default_rng(6).random(n))
+    np.testing.assert_array_equal(p, pmf[k])
+    freq = np.bincount(k, minlength=9)[1:9] / n
+    assert (np.abs(freq - pmf[1:9]) < 4.5 * np.sqrt(pmf[1:9] * (1 - pmf[1:9]) / n)).all()
+    with pytest.raises(ValueError, match=r"k_max = 0 is out of range; allowed: \[1, 32\]"):
+        omnee.VertexCount(0, s=1.0, **MEDIUM)
+    with pytest.raises(ValueError, match=r"u\[1\] = nan is out of range; allowed: \[0, 1\]"):
+        count.sample([0.5, np.nan])
+    with pytest.raises(ValueError, match=r"s = -1"):
+        omnee.VertexCount(4, s=-1.0, **MEDIUM)

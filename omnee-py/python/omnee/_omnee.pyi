@@ -25,6 +25,7 @@ __all__ = [
     "Mis",
     "estimate",
     "Bridge",
+    "VertexCount",
     "isotropic_transfer",
     "NotConvergedError",
     "__version__",
@@ -267,6 +268,30 @@ class Bridge:
     def x2(self) -> Tuple[float, float, float]: ...
     @property
     def phase(self) -> Phase: ...
+
+@final
+class VertexCount:
+    """The number of bridge vertices k in [1, k_max] drawn per connection: a
+    Poisson distribution of mean ``μ = σs s (1 + (1 − |g|) σt s / 2)``
+    truncated to [1, k_max], mixed with the uniform one for the share 0.2."""
+
+    def __new__(
+        cls,
+        k_max: int = 8,
+        *,
+        s: float,
+        sigma_s: float,
+        sigma_t: float,
+        phase: Optional[_PhaseLike] = None,
+    ) -> "VertexCount": ...
+    def sample(self, u: _ArrayLike) -> Tuple[Any, Any]:
+        """``(k, P(k))`` (int64, float64) for each uniform number of ``u`` in [0, 1]."""
+    def pmf(self, k: _ArrayLike) -> Any:
+        """``P(k)``, 0 outside [1, k_max]."""
+    @property
+    def k_max(self) -> int: ...
+    @property
+    def mean(self) -> float: ...
 
 def isotropic_transfer(
     k: int, *, s: float, sigma_s: float, sigma_t: float, budget: int = 1000000
