@@ -222,9 +222,9 @@ fn bridges<F: Bits>(out: &mut String, u3: [[f64; 3]; 4]) -> Result<(), omnee_cor
         }
         let mut x = [x0; 5];
         let b = bridge.sample(&u[..k], &mut x[..k]);
-        let status = if b.is_some() { " s0" } else { " s1" };
+        let drawn = status(&b);
         let b = b.expect("these numbers give a bridge");
-        write!(out, "{p} bridge k {k}{status} {:08x}", b.k).unwrap();
+        write!(out, "{p} bridge k {k}{drawn} {:08x}", b.k).unwrap();
         for f in [b.length, b.pdf, b.phase_ratio, b.weight] {
             write!(out, "{}", f.bits()).unwrap();
         }
@@ -232,7 +232,14 @@ fn bridges<F: Bits>(out: &mut String, u3: [[f64; 3]; 4]) -> Result<(), omnee_cor
             write!(out, "{}", xi.to_array().map(F::bits).concat()).unwrap();
         }
         let estimate = bridge.estimate(&b, &medium);
-        writeln!(out, "{}{}", bridge.pdf(&x[..k]).bits(), estimate.bits()).unwrap();
+        write!(out, "{}{}", bridge.pdf(&x[..k]).bits(), estimate.bits()).unwrap();
+        let mut inverse = [[F::ZERO; 3]; 5];
+        let found = bridge.invert(&x[..k], &mut inverse[..k]);
+        write!(out, "{}", status(&found)).unwrap();
+        for ui in &inverse[..k] {
+            write!(out, "{}", ui.map(F::bits).concat()).unwrap();
+        }
+        writeln!(out).unwrap();
     }
     let count = VertexCount::new(
         8,

@@ -682,6 +682,39 @@ omnee_status omnee_bridge_pdf_f64(const struct omnee_connection_f64 *connection,
                                   double *pdf,
                                   struct omnee_error *error);
 
+// The uniform numbers that `omnee_bridge_sample_*` maps to the path x0,
+// `vertices[0..k)`, x2 of `connection` (θmax = π) with `phase`, written to
+// `u[0..3k)` (three per vertex, as `omnee_bridge_sample_*` reads them);
+// `capacity` is u's length, at least 3k. `OMNEE_NONE` (u[0..3k) zero) where
+// the map has no inverse: coincident points, a first deflection of 0 or π,
+// or a phase function whose sampler is not invertible (mixtures). On an
+// error (k out of range, capacity < 3k, NULL, a NaN vertex, u overlapping
+// the vertices) u is left as it was.
+//
+// # Safety
+// `vertices` is NULL or points to k points; `u` is NULL or points to
+// `capacity` writable numbers.
+omnee_status omnee_bridge_invert_f32(const struct omnee_connection_f32 *connection,
+                                     const struct omnee_phase_f32 *phase,
+                                     size_t k,
+                                     const struct omnee_vec3_f32 *vertices,
+                                     float *u,
+                                     size_t capacity,
+                                     struct omnee_error *error);
+
+// `omnee_bridge_invert_f32` in double precision.
+//
+// # Safety
+// `vertices` is NULL or points to k points; `u` is NULL or points to
+// `capacity` writable numbers.
+omnee_status omnee_bridge_invert_f64(const struct omnee_connection_f64 *connection,
+                                     const struct omnee_phase_f64 *phase,
+                                     size_t k,
+                                     const struct omnee_vec3_f64 *vertices,
+                                     double *u,
+                                     size_t capacity,
+                                     struct omnee_error *error);
+
 // One estimate of I_k = ∫…∫ Π σs p(θ_i) e^{−σt D} / (d_1² ⋯ d_{k+1}²) dx_1 ⋯ dx_k
 // for the problem's medium (σs, σt; θmax = π and no receiver cosine, else
 // `OMNEE_ERROR_OUT_OF_RANGE` / `OMNEE_ERROR_UNSUPPORTED`) from a bridge of

@@ -9,7 +9,7 @@
 
 use crate::args::{finite, object, required};
 use crate::boundary::{overlap, slice, slice_mut};
-use crate::status::{ErrorOut, Failure, finish, omnee_error, omnee_status};
+use crate::status::{ErrorOut, Failure, fail, finish, omnee_error, omnee_status};
 use crate::types::{
     Precision, omnee_bridge, omnee_connection_f32, omnee_connection_f64, omnee_phase_f32,
     omnee_phase_f64, omnee_problem_f32, omnee_problem_f64, omnee_vec3, omnee_vertex_count_f32,
@@ -304,6 +304,116 @@ unsafe fn pdf_of<F: Precision>(
         finite(bridge.pdf(&x[..k]), "pdf").map(Some)
     })();
     finish(out, "pdf", error, result)
+}
+
+/// The uniform numbers that `omnee_bridge_sample_*` maps to the path x0,
+/// `vertices[0..k)`, x2 of `connection` (θmax = π) with `phase`, written to
+/// `u[0..3k)` (three per vertex, as `omnee_bridge_sample_*` reads them);
+/// `capacity` is u's length, at least 3k. `OMNEE_NONE` (u[0..3k) zero) where
+/// the map has no inverse: coincident points, a first deflection of 0 or π,
+/// or a phase function whose sampler is not invertible (mixtures). On an
+/// error (k out of range, capacity < 3k, NULL, a NaN vertex, u overlapping
+/// the vertices) u is left as it was.
+///
+/// # Safety
+/// `vertices` is NULL or points to k points; `u` is NULL or points to
+/// `capacity` writable numbers.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn omnee_bridge_invert_f32(
+    connection: Option<&omnee_connection_f32>,
+    phase: Option<&omnee_phase_f32>,
+    k: usize,
+    vertices: *const omnee_vec3<f32>,
+    u: *mut f32,
+    capacity: usize,
+    error: Option<&mut MaybeUninit<omnee_error>>,
+) -> omnee_status {
+    // SAFETY: the pointer contract is the caller's (above).
+    unsafe { invert::<f32>(connection, phase, k, vertices, u, capacity, error) }
+}
+
+/// `omnee_bridge_invert_f32` in double precision.
+///
+/// # Safety
+/// `vertices` is NULL or points to k points; `u` is NULL or points to
+/// `capacity` writable numbers.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn omnee_bridge_invert_f64(
+    connection: Option<&omnee_connection_f64>,
+    phase: Option<&omnee_phase_f64>,
+    k: usize,
+    vertices: *const omnee_vec3<f64>,
+    u: *mut f64,
+    capacity: usize,
+    error: Option<&mut MaybeUninit<omnee_error>>,
+) -> omnee_status {
+    // SAFETY: the pointer contract is the caller's (above).
+    unsafe { invert::<f64>(connection, phase, k, vertices, u, capacity, error) }
+}
+
+/// The body of `omnee_bridge_invert_*`.
+///
+/// # Safety
+/// As the exported functions'.
+unsafe fn invert<F: Precision>(
+    connection: Option<&F::Connection>,
+    phase: Option<&F::Phase>,
+    k: usize,
+    vertices: *const omnee_vec3<F>,
+    u: *mut F,
+    capacity: usize,
+    error: ErrorOut<'_>,
+) -> omnee_status {
+    let result = (|| {
+        let bridge = bridge::<F>(connection, phase)?;
+        let k = order(k, "k")?;
+        if capacity < 3 * k {
+            return Err(Error::OutOfRange {
+                field: "capacity",
+                value: capacity as f64,
+                allowed: "at least 3k (the length of u)",
+            }
+            .into());
+        }
+        // SAFETY: vertices points to k points (the contract).
+        let points = unsafe { slice(vertices, k) }.ok_or(Failure::Null("vertices"))?;
+        if !points.iter().all(|p| p.is_finite()) {
+            return Err(Error::NotFinite { field: "vertices" }.into());
+        }
+        let (bytes_v, bytes_u) = (k * size_of::<omnee_vec3<F>>(), capacity * size_of::<F>());
+        if overlap(
+            vertices.cast::<u8>(),
+            bytes_v,
+            u.cast::<u8>().cast_const(),
+            bytes_u,
+        ) {
+            return Err(Error::Arrays {
+                field: "u",
+                reason: "overlaps vertices",
+            }
+            .into());
+        }
+        let mut x = [bridge.axis.x0; MAX_VERTICES];
+        for (xi, p) in x.iter_mut().zip(points) {
+            *xi = p.get();
+        }
+        let mut numbers = [[F::ZERO; 3]; MAX_VERTICES];
+        let found = bridge
+            .invert(&x[..k], &mut numbers[..k])
+            .filter(|()| numbers[..k].iter().flatten().all(|v| v.is_finite()));
+        // SAFETY: u points to `capacity` ≥ 3k writable numbers that do not
+        // overlap the vertices (checked above) and nothing else accesses.
+        let out = unsafe { slice_mut(u, capacity) }.ok_or(Failure::Null("u"))?;
+        for (slot, &v) in out[..3 * k].iter_mut().zip(numbers[..k].iter().flatten()) {
+            *slot = if found.is_some() { v } else { F::ZERO };
+        }
+        Ok(found)
+    })();
+    match result {
+        Ok(Some(())) => omnee_status::OMNEE_OK,
+        Ok(None) => omnee_status::OMNEE_NONE,
+        Err(failure) => fail(error, failure),
+    }
 }
 
 /// One estimate of I_k = ∫…∫ Π σs p(θ_i) e^{−σt D} / (d_1² ⋯ d_{k+1}²) dx_1 ⋯ dx_k

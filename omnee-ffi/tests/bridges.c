@@ -156,6 +156,29 @@ static void bad_input(void) {
   v[0] = x0;
   CHECK(omnee_bridge_pdf_f64(&c, &hg, 1, v, &value, &e) == OMNEE_OK && value == 0.0);
 
+  /* invert: k, capacity < 3k, NULL, NaN vertices, u over the vertices; u
+     left as it was on an error. */
+  {
+    double back[6] = {-7, -7, -7, -7, -7, -7};
+    omnee_vec3_f64 w[2] = {{0.1, 0.2, 0.5}, {-0.1, 0.1, 0.3}};
+    EXPECT(omnee_bridge_invert_f64(&c, &hg, 0, w, back, 6, &e), OMNEE_ERROR_OUT_OF_RANGE, "k");
+    EXPECT(omnee_bridge_invert_f64(&c, &hg, 2, w, back, 5, &e), OMNEE_ERROR_OUT_OF_RANGE,
+           "capacity");
+    EXPECT(omnee_bridge_invert_f64(&c, &hg, 2, NULL, back, 6, &e), OMNEE_ERROR_NULL, "vertices");
+    EXPECT(omnee_bridge_invert_f64(&c, &hg, 2, w, NULL, 6, &e), OMNEE_ERROR_NULL, "u");
+    EXPECT(omnee_bridge_invert_f64(&narrow, &hg, 2, w, back, 6, &e), OMNEE_ERROR_OUT_OF_RANGE,
+           "theta_max");
+    EXPECT(omnee_bridge_invert_f64(&c, &hg, 2, w, (double *)(void *)w, 6, &e), OMNEE_ERROR_TABLE,
+           "u");
+    w[1].z = NAN;
+    EXPECT(omnee_bridge_invert_f64(&c, &hg, 2, w, back, 6, &e), OMNEE_ERROR_NOT_FINITE, "vertices");
+    CHECK(back[0] == -7.0 && back[5] == -7.0);
+    /* A vertex on x0: no inverse, zeros. */
+    w[1].z = 0.3, w[0] = x0;
+    CHECK(omnee_bridge_invert_f64(&c, &hg, 2, w, back, 6, &e) == OMNEE_NONE);
+    CHECK(back[0] == 0.0 && back[5] == 0.0);
+  }
+
   /* estimate: a problem with a receiver cosine, a bad sample; the zero
      sample estimates 0. */
   memset(&b, 0, sizeof b);
