@@ -207,6 +207,67 @@ impl Bridge {
     }
 }
 
+impl Bridge {
+    /// [`invert`](Bridge::invert) in precision `F`.
+    fn invert_in<'py, F: Real + Element>(
+        &self,
+        py: Python<'py>,
+        vertices: PyReadonlyArrayDyn<'py, F>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let shape = vertices.shape().to_vec();
+        let (k, lead) = order("vertices", &shape)?;
+        let data = slice(&vertices);
+        if let Some(at) = data.iter().position(|v| !v.is_finite()) {
+            return Err(Bad::Element {
+                arg: "vertices",
+                at,
+                value: number(data[at]),
+                allowed: "finite coordinates",
+            }
+            .into_err(&shape));
+        }
+        let mut storage = TableStorage::<F>::default();
+        let bridge = self.core::<F>(&mut storage)?;
+        let (u, valid) = (zeros::<F>(py, &shape), zeros::<bool>(py, &lead));
+        {
+            let (mut uv, mut vv) = (u.readwrite(), valid.readwrite());
+            let all = (
+                Items { data, k: 3 * k },
+                Items {
+                    data: slice_mut(&mut uv),
+                    k: 3 * k,
+                },
+                Items {
+                    data: slice_mut(&mut vv),
+                    k: 1,
+                },
+            );
+            let bridge = &bridge;
+            let Ok(()) = py.detach(|| {
+                run(all, |_, (points, us, vs)| {
+                    let mut x = [bridge.axis.x0; MAX_VERTICES];
+                    let mut numbers = [[F::ZERO; 3]; MAX_VERTICES];
+                    let rows = points.data.chunks_exact(3 * k);
+                    let outs = us.data.chunks_exact_mut(3 * k);
+                    for ((row, out), ok) in rows.zip(outs).zip(vs.data.iter_mut()) {
+                        for (xj, c) in x[..k].iter_mut().zip(row.chunks_exact(3)) {
+                            *xj = F::Vec3::new(c[0], c[1], c[2]);
+                        }
+                        if bridge.invert(&x[..k], &mut numbers[..k]).is_some() {
+                            out.copy_from_slice(numbers[..k].as_flattened());
+                            *ok = true;
+                        }
+                    }
+                    Ok::<(), std::convert::Infallible>(())
+                })
+            });
+        }
+        py.import("omnee")?
+            .getattr("Inversion")?
+            .call1((crate::array::result(u)?, crate::array::result(valid)?))
+    }
+}
+
 #[pymethods]
 impl Bridge {
     #[new]
@@ -255,6 +316,22 @@ impl Bridge {
         match floats("vertices", vertices)? {
             Floats::F32(a) => self.pdf_in::<f32>(py, a),
             Floats::F64(a) => self.pdf_in::<f64>(py, a),
+        }
+    }
+
+    /// The uniform numbers that `sample` maps to the paths (`vertices` of
+    /// shape `(..., k, 3)`, finite): `Inversion(u, valid)` with `u` of shape
+    /// `(..., k, 3)`; `valid` False (and `u` 0) where the map has no inverse
+    /// (coincident points, a first deflection of 0 or π, a mixture phase
+    /// function).
+    fn invert<'py>(
+        &self,
+        py: Python<'py>,
+        vertices: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        match floats("vertices", vertices)? {
+            Floats::F32(a) => self.invert_in::<f32>(py, a),
+            Floats::F64(a) => self.invert_in::<f64>(py, a),
         }
     }
 

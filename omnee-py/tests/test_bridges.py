@@ -25,6 +25,17 @@ def test_sample_shapes_density_and_precision():
     np.testing.assert_allclose(b.pdf(s.vertices), s.pdf, rtol=1e-9)
     # For an exactly sampled phase function weight = D^(k+1)/(s^3 k!), s = 1.
     np.testing.assert_allclose(s.weight, s.length**4 / 6.0, rtol=1e-12)
+    # Back to the numbers, and from them to the same vertices.
+    inv = b.invert(s.vertices)
+    assert inv.u.shape == u.shape and inv.valid.all()
+    np.testing.assert_allclose(inv.u, u, atol=1e-9)
+    np.testing.assert_allclose(b.sample(inv.u).vertices, s.vertices, atol=1e-9)
+    # A vertex on x0 has no inverse: valid False, u 0.
+    on_x0 = s.vertices[:1].copy()
+    on_x0[0, 0] = X0
+    assert not b.invert(on_x0).valid[0] and (b.invert(on_x0).u == 0).all()
+    with pytest.raises(ValueError, match=r"vertices\[0, 1, 2\] = nan is out of range"):
+        b.invert([[[0.1, 0.2, 0.3], [0.1, 0.1, np.nan]]])
     # float32 in, f32 computed, float32 out, close to f64.
     s32 = b.sample(u.astype(np.float32))
     assert s32.vertices.dtype == np.float32 and s32.pdf.dtype == np.float32

@@ -262,6 +262,9 @@ class Bridge:
         """Bridges from ``u`` of shape ``(..., k, 3)`` in [0, 1], k in [1, 32]."""
     def pdf(self, vertices: _ArrayLike) -> Any:
         """The density of ``sample`` at the paths ``x0, vertices[..., :, :], x2``."""
+    def invert(self, vertices: _ArrayLike) -> Inversion:
+        """The uniform numbers ``sample`` maps to the paths: ``Inversion(u, valid)``,
+        ``u`` of shape ``(..., k, 3)``."""
     @property
     def x0(self) -> Tuple[float, float, float]: ...
     @property
