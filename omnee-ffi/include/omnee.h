@@ -29,7 +29,9 @@
  * objects then fail every later use with OMNEE_ERROR_UNINITIALISED), except
  * where a function says otherwise (omnee_phase_parse_* leaves the phase
  * function unwritten on OMNEE_TABLE_SPEC; omnee_omnee_sample_batch_f32
- * leaves its vertex arrays as they were on an error); no output is written
+ * leaves its vertex arrays as they were on an error, and so do
+ * omnee_bridge_sample_* and omnee_bridge_invert_* with the caller's
+ * vertex and number arrays); no output is written
  * before every check of the call has passed. The last argument, omnee_error *error, may be NULL; when it is not and the call
  * fails, it receives the status, the offending field's name, its value
  * (out-of-range numbers) and the message, for the core's errors exactly the
