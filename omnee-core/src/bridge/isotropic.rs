@@ -31,7 +31,7 @@ pub const REFERENCE_BUDGET: usize = 1_000_000;
 /// non-finite coefficients, `σt = 0` with `k ≥ 2` (the unattenuated
 /// integral diverges: chains wander off to infinity), and when the
 /// quadrature needs more than `budget` evaluations of the integrand
-/// (`Error::Degenerate` on the field `"budget"`): it never runs longer.
+/// (`Error::NotConverged` on the field `"reference"`): it never runs longer.
 pub fn isotropic_transfer(
     k: usize,
     s: f64,
@@ -64,9 +64,9 @@ pub fn isotropic_transfer(
     };
     let j = integrate_geometric(integrand, 0.0, 1.0, 50, 1e-11);
     if evaluations > budget {
-        return Err(Error::Degenerate {
-            field: "budget",
-            reason: "exhausted before the quadrature converged",
+        return Err(Error::NotConverged {
+            field: "reference",
+            evaluations: evaluations as u64,
         });
     }
     // (2 σt/(π s)) (σs/σt)^k e^{−τ} J, with σt^{1−k} as the albedo's power.
