@@ -30,6 +30,15 @@
 //!   `pdf/f32/equiangular-at-{point,vertex}/hg0.9`: a batch of one vertex,
 //!   `OmneeMis`'s lazy draw and the density at a vertex with its offsets
 //!   (see `one_vertex_and_companion` below).
+//! - `connections_<f32|f64>/<technique>/<phase>`: `Connections`, the batch
+//!   over connections: the same 256 uniform triples per iteration as
+//!   `sample/*`, each lane with a connection of its own (end points from a
+//!   pool of 2¹⁶ pairs, θmax = π), one call per iteration; `omnee` through
+//!   `sample_omnee`, `mis` through `sample_mis` (the CLI's MIS, the six
+//!   numbers of `sample/*/mis`), and `omnee-scalar`, the scalar calls it
+//!   replaces (`Connection::new` and `Omnee::sample` per lane). Compare
+//!   with `sample/<precision>/omnee/<phase>` (one fixed connection, scalar)
+//!   and `batch/f32/omnee/<phase>` (one connection, vectorised).
 //! - `slab/<technique>`: one call of `SlabWorld::once_more` on
 //!   the default scene (`omnee default-scene`) for 256 floor points: a light
 //!   point, the connection, the technique's vertex, closed-form
@@ -121,7 +130,7 @@ impl ValueFormatter for CpuFormatter {
     }
 }
 
-/// Samples per criterion iteration.
+/// SampleArrays per criterion iteration.
 const BATCH: usize = 256;
 
 /// Inputs per pool: each iteration takes the next `BATCH` of them, so an
@@ -601,11 +610,173 @@ fn one_vertex_and_companion(c: &mut Criterion<CpuTime>) {
     group.finish();
 }
 
+/// End points for `connections_*`: `POOL` pairs, `x0` in the unit cube
+/// about `(0, 0, 1)` and `x2` in the one about the origin (s ≈ 1, as the
+/// scalar benchmarks' connection), from a fixed SplitMix64 stream.
+fn endpoints<F: Real>() -> [Vec<F>; 6] {
+    let mut rng = omnee::rng::SplitMix64::new(0xc0_44ec_7104);
+    let mut cols: [Vec<F>; 6] = Default::default();
+    for _ in 0..POOL {
+        for (k, col) in cols.iter_mut().enumerate() {
+            let u: f64 = omnee::sampling::uniform(&mut rng);
+            let centre = if k == 2 { 1.0 } else { 0.0 };
+            col.push(F::from_f64(centre + u - 0.5));
+        }
+    }
+    cols
+}
+
+/// The batch over connections: `connections_<precision>/<technique>/<name>`
+/// (see the top of the file), for OMNEE, MIS and the scalar calls it
+/// replaces.
+fn connections<F: Real, P: omnee::sampling::PhaseBatch<F> + Copy>(
+    c: &mut Criterion<CpuTime>,
+    precision: &str,
+    name: &str,
+    phase: P,
+    with_mis: bool,
+) {
+    use omnee::method::Setup;
+    use omnee::sampling::{Connections, Points, PointsMut, SampleArrays, Uniforms};
+    let [ax, ay, az, bx, by, bz] = endpoints::<F>();
+    let us = uniforms::<F>();
+    let soa = |k: usize| us.iter().map(|u| u[k]).collect::<Vec<F>>();
+    let (u0, u1, u2) = (soa(0), soa(1), soa(2));
+    // The MIS companion's three: the next triple, as `sample/*/mis` takes them.
+    let next = |k: usize| (0..POOL).map(|i| us[(i + 1) % POOL][k]).collect::<Vec<F>>();
+    let (v0, v1, v2) = (next(0), next(1), next(2));
+    // The same walk through the pool as the scalar benchmarks.
+    let at = std::cell::Cell::new(0usize);
+    let window = || {
+        let i = at.get();
+        at.set((i + BATCH) % POOL);
+        i..i + BATCH
+    };
+    let lanes = |w: std::ops::Range<usize>| {
+        Connections::new(
+            Points {
+                x: &ax[w.clone()],
+                y: &ay[w.clone()],
+                z: &az[w.clone()],
+            },
+            Points {
+                x: &bx[w.clone()],
+                y: &by[w.clone()],
+                z: &bz[w],
+            },
+            F::PI,
+        )
+        .unwrap()
+    };
+    let mut out: [Vec<F>; 10] = core::array::from_fn(|_| vec![F::ZERO; BATCH]);
+    let mut valid = [vec![false; BATCH], vec![false; BATCH]];
+    let mut group = c.benchmark_group(format!("connections_{precision}"));
+    group.throughput(Throughput::Elements(BATCH as u64));
+    group.bench_function(BenchmarkId::new("omnee", name), |b| {
+        b.iter(|| {
+            let w = window();
+            let [x, y, z, pdf, weight, ..] = &mut out;
+            let samples = SampleArrays {
+                x1: PointsMut { x, y, z },
+                pdf,
+                weight,
+                valid: &mut valid[0],
+            };
+            let u = Uniforms {
+                u0: black_box(&u0[w.clone()]),
+                u1: &u1[w.clone()],
+                u2: &u2[w.clone()],
+            };
+            let n = lanes(w).sample_omnee(&phase, u, samples).unwrap();
+            F::from_f64(n as f64) + out[3][n / 2] + out[4][n / 3] + out[0][n / 4]
+        })
+    });
+    group.bench_function(BenchmarkId::new("omnee-scalar", name), |b| {
+        b.iter(|| {
+            let w = window();
+            let mut acc = F::ZERO;
+            for i in w {
+                let x0 = F::Vec3::new(ax[i], ay[i], az[i]);
+                let x2 = F::Vec3::new(bx[i], by[i], bz[i]);
+                let Ok(conn) = Connection::new(black_box(x0), x2, F::PI) else {
+                    continue;
+                };
+                if let Some(s) = Omnee::new(conn, phase).sample([u0[i], u1[i], u2[i]]) {
+                    acc += s.weight + s.pdf + s.x1.x();
+                }
+            }
+            acc
+        })
+    });
+    if with_mis {
+        let setup = Setup::new(phase, Directions::Sphere, Region::Everywhere, F::ONE).unwrap();
+        group.bench_function(BenchmarkId::new("mis", name), |b| {
+            b.iter(|| {
+                let w = window();
+                let [x, y, z, pdf, weight, cx, cy, cz, cpdf, cweight] = &mut out;
+                let [valid, cvalid] = &mut valid;
+                let omnee = SampleArrays {
+                    x1: PointsMut { x, y, z },
+                    pdf,
+                    weight,
+                    valid,
+                };
+                let companion = SampleArrays {
+                    x1: PointsMut {
+                        x: cx,
+                        y: cy,
+                        z: cz,
+                    },
+                    pdf: cpdf,
+                    weight: cweight,
+                    valid: cvalid,
+                };
+                let u = Uniforms {
+                    u0: black_box(&u0[w.clone()]),
+                    u1: &u1[w.clone()],
+                    u2: &u2[w.clone()],
+                };
+                let v = Uniforms {
+                    u0: &v0[w.clone()],
+                    u1: &v1[w.clone()],
+                    u2: &v2[w.clone()],
+                };
+                let n = lanes(w).sample_mis(&setup, u, v, omnee, companion).unwrap();
+                F::from_f64(n as f64) + out[3][n / 2] + out[4][n / 3] + out[9][0]
+            })
+        });
+    }
+    group.finish();
+}
+
+/// `connections_*` for HG 0.9 (f32 and f64) and for Fournier–Forand
+/// sampled through its table (f32).
+fn all_connections(c: &mut Criterion<CpuTime>) {
+    connections(
+        c,
+        "f32",
+        "hg0.9",
+        HenyeyGreenstein::new(0.9f32).unwrap(),
+        true,
+    );
+    connections(
+        c,
+        "f64",
+        "hg0.9",
+        HenyeyGreenstein::new(0.9f64).unwrap(),
+        true,
+    );
+    let ff = FournierForand::new(0.0183f32, 1.10).unwrap();
+    let table = InverseCdf::new(&ff).unwrap();
+    connections(c, "f32", "ff", TableSampled::new(ff, &table), true);
+}
+
 fn benches(c: &mut Criterion<CpuTime>) {
     all::<f32>(c, "f32");
     all::<f64>(c, "f64");
     batch(c);
     one_vertex_and_companion(c);
+    all_connections(c);
     slab(c);
 }
 

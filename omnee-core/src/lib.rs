@@ -17,6 +17,9 @@
 //!
 //! Modules, one per idea:
 //! - [`real`]: the two precisions (`f32` for renderers, `f64` for references);
+//! - [`bridge`]: bridges of k scattering vertices between `x0` and `x2`
+//!   (rotate-and-scale sampling, the number of vertices, the isotropic
+//!   closed form);
 //! - [`circumcircle`]: the map (θ, β, φ) ↔ x1 and the triangle's measures;
 //! - [`phase`]: phase functions with cancellation-free angles, and tabulated
 //!   inverse CDFs that sample any of them at Henyey–Greenstein's cost;
@@ -106,6 +109,7 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod bridge;
 pub mod circumcircle;
 pub mod error;
 pub mod lobe;

@@ -443,7 +443,7 @@ fn estrin5(c: &[f64; 6], z: f64) -> f64 {
 /// the rounding of π/2 (6e-17), which is below 1.4e-9 of any `y` an f32 `x`
 /// can give.
 #[inline(always)]
-fn sin_cos_acute_f64(x: f64) -> (f64, f64) {
+pub(crate) fn sin_cos_acute_f64(x: f64) -> (f64, f64) {
     let y = core::f64::consts::FRAC_PI_2 - x.abs();
     (
         x * estrin5(&SIN_ACUTE, x * x),
@@ -652,7 +652,7 @@ pub fn sinc_is_series<F: Real>(x: F) -> bool {
 
 /// `1 − x²/6 + x⁴/120`.
 #[inline]
-fn sinc_series<F: Real>(x: F) -> F {
+pub(crate) fn sinc_series<F: Real>(x: F) -> F {
     let x2 = x * x;
     F::ONE - x2 * (F::from_f64(1.0 / 6.0) - x2 * F::from_f64(1.0 / 120.0))
 }

@@ -206,6 +206,64 @@ typedef struct omnee_phase_f32 {
   uint64_t storage[OMNEE_PHASE_F32_WORDS];
 } omnee_phase_f32;
 
+// Points by coordinate: point `i` is `(x[i], y[i], z[i])`.
+typedef struct omnee_points_f32 {
+  // x coordinates.
+  const float *x;
+  // y coordinates.
+  const float *y;
+  // z coordinates.
+  const float *z;
+} omnee_points_f32;
+
+// A batch of connections: lane `i` runs from `x0` point `i` (light side)
+// to `x2` point `i` (receiver side), all restricted to θ < `theta_max`
+// ∈ (0, π]. Every array holds `len` numbers.
+typedef struct omnee_connections_f32 {
+  // The light-side end points.
+  struct omnee_points_f32 x0;
+  // The receiver-side end points.
+  struct omnee_points_f32 x2;
+  // The restriction θ < θmax of every lane.
+  float theta_max;
+  // The number of lanes.
+  size_t len;
+} omnee_connections_f32;
+
+// The uniform numbers of a batch over connections, one array per
+// coordinate, each `len` long: lane `i` takes `(u0[i], u1[i], u2[i])`.
+typedef struct omnee_lane_uniforms_f32 {
+  // u0 (θ for OMNEE; the companion's decision for MIS's second set).
+  const float *u0;
+  // u1.
+  const float *u1;
+  // u2.
+  const float *u2;
+  // The number of lanes.
+  size_t len;
+} omnee_lane_uniforms_f32;
+
+// The samples of a batch over connections, each array `len` long: lane
+// `i`'s vertex x1 = `(x[i], y[i], z[i])`, its pdf and weight (as in
+// `omnee_sample_*`), and `valid[i]` = 1 where the lane has a vertex, 0
+// (with all its numbers 0) where not.
+typedef struct omnee_samples_f32 {
+  // x coordinates of x1.
+  float *x;
+  // y coordinates of x1.
+  float *y;
+  // z coordinates of x1.
+  float *z;
+  // Volume densities (1/m³).
+  float *pdf;
+  // Weights k/pdf without f_c (1/m).
+  float *weight;
+  // 1 where the lane has a vertex, else 0.
+  uint8_t *valid;
+  // The number of lanes.
+  size_t len;
+} omnee_samples_f32;
+
 // A phase function (opaque; make it with an `omnee_phase_*_f64`
 // constructor; copy it freely). A table's phase function refers to the
 // caller's arrays.
@@ -213,6 +271,98 @@ typedef struct omnee_phase_f64 {
   uint64_t tag;
   uint64_t storage[OMNEE_PHASE_F64_WORDS];
 } omnee_phase_f64;
+
+// Points by coordinate: point `i` is `(x[i], y[i], z[i])`.
+typedef struct omnee_points_f64 {
+  // x coordinates.
+  const double *x;
+  // y coordinates.
+  const double *y;
+  // z coordinates.
+  const double *z;
+} omnee_points_f64;
+
+// A batch of connections: lane `i` runs from `x0` point `i` (light side)
+// to `x2` point `i` (receiver side), all restricted to θ < `theta_max`
+// ∈ (0, π]. Every array holds `len` numbers.
+typedef struct omnee_connections_f64 {
+  // The light-side end points.
+  struct omnee_points_f64 x0;
+  // The receiver-side end points.
+  struct omnee_points_f64 x2;
+  // The restriction θ < θmax of every lane.
+  double theta_max;
+  // The number of lanes.
+  size_t len;
+} omnee_connections_f64;
+
+// The uniform numbers of a batch over connections, one array per
+// coordinate, each `len` long: lane `i` takes `(u0[i], u1[i], u2[i])`.
+typedef struct omnee_lane_uniforms_f64 {
+  // u0 (θ for OMNEE; the companion's decision for MIS's second set).
+  const double *u0;
+  // u1.
+  const double *u1;
+  // u2.
+  const double *u2;
+  // The number of lanes.
+  size_t len;
+} omnee_lane_uniforms_f64;
+
+// The samples of a batch over connections, each array `len` long: lane
+// `i`'s vertex x1 = `(x[i], y[i], z[i])`, its pdf and weight (as in
+// `omnee_sample_*`), and `valid[i]` = 1 where the lane has a vertex, 0
+// (with all its numbers 0) where not.
+typedef struct omnee_samples_f64 {
+  // x coordinates of x1.
+  double *x;
+  // y coordinates of x1.
+  double *y;
+  // z coordinates of x1.
+  double *z;
+  // Volume densities (1/m³).
+  double *pdf;
+  // Weights k/pdf without f_c (1/m).
+  double *weight;
+  // 1 where the lane has a vertex, else 0.
+  uint8_t *valid;
+  // The number of lanes.
+  size_t len;
+} omnee_samples_f64;
+
+// How the ray techniques (equiangular, distance, and the MIS companion)
+// draw a ray from x2, and where the medium is along it. All zero (the
+// default): uniform directions, medium everywhere.
+typedef struct omnee_rays_f32 {
+  // `OMNEE_DIRECTIONS_SPHERE` or `OMNEE_DIRECTIONS_COSINE`.
+  uint32_t directions;
+  // The cosine's normal at x2 (finite, non-zero, normalised by the
+  // library); ignored for the sphere.
+  struct omnee_vec3_f32 normal;
+  // `OMNEE_REGION_EVERYWHERE` or `OMNEE_REGION_SLAB`.
+  uint32_t region;
+  // The slab's lower plane (finite); ignored for everywhere.
+  float z_min;
+  // The slab's upper plane (finite, > z_min); ignored for everywhere.
+  float z_max;
+} omnee_rays_f32;
+
+// How the ray techniques (equiangular, distance, and the MIS companion)
+// draw a ray from x2, and where the medium is along it. All zero (the
+// default): uniform directions, medium everywhere.
+typedef struct omnee_rays_f64 {
+  // `OMNEE_DIRECTIONS_SPHERE` or `OMNEE_DIRECTIONS_COSINE`.
+  uint32_t directions;
+  // The cosine's normal at x2 (finite, non-zero, normalised by the
+  // library); ignored for the sphere.
+  struct omnee_vec3_f64 normal;
+  // `OMNEE_REGION_EVERYWHERE` or `OMNEE_REGION_SLAB`.
+  uint32_t region;
+  // The slab's lower plane (finite); ignored for everywhere.
+  double z_min;
+  // The slab's upper plane (finite, > z_min); ignored for everywhere.
+  double z_max;
+} omnee_rays_f64;
 
 // A part of a string: `length` bytes from byte `offset`.
 typedef struct omnee_span {
@@ -285,40 +435,6 @@ typedef struct omnee_sample_f64 {
   // multiply by f_c (`omnee_problem_f_c_*`) for one estimate.
   double weight;
 } omnee_sample_f64;
-
-// How the ray techniques (equiangular, distance, and the MIS companion)
-// draw a ray from x2, and where the medium is along it. All zero (the
-// default): uniform directions, medium everywhere.
-typedef struct omnee_rays_f32 {
-  // `OMNEE_DIRECTIONS_SPHERE` or `OMNEE_DIRECTIONS_COSINE`.
-  uint32_t directions;
-  // The cosine's normal at x2 (finite, non-zero, normalised by the
-  // library); ignored for the sphere.
-  struct omnee_vec3_f32 normal;
-  // `OMNEE_REGION_EVERYWHERE` or `OMNEE_REGION_SLAB`.
-  uint32_t region;
-  // The slab's lower plane (finite); ignored for everywhere.
-  float z_min;
-  // The slab's upper plane (finite, > z_min); ignored for everywhere.
-  float z_max;
-} omnee_rays_f32;
-
-// How the ray techniques (equiangular, distance, and the MIS companion)
-// draw a ray from x2, and where the medium is along it. All zero (the
-// default): uniform directions, medium everywhere.
-typedef struct omnee_rays_f64 {
-  // `OMNEE_DIRECTIONS_SPHERE` or `OMNEE_DIRECTIONS_COSINE`.
-  uint32_t directions;
-  // The cosine's normal at x2 (finite, non-zero, normalised by the
-  // library); ignored for the sphere.
-  struct omnee_vec3_f64 normal;
-  // `OMNEE_REGION_EVERYWHERE` or `OMNEE_REGION_SLAB`.
-  uint32_t region;
-  // The slab's lower plane (finite); ignored for everywhere.
-  double z_min;
-  // The slab's upper plane (finite, > z_min); ignored for everywhere.
-  double z_max;
-} omnee_rays_f64;
 
 // The vertices of one MIS estimate (`omnee_mis_sample_*`): OMNEE's, and
 // now and then the companion's. Sum `f_c · weight` over the present ones.
@@ -393,6 +509,83 @@ omnee_status omnee_connection_init_f64(struct omnee_connection_f64 *connection,
                                        struct omnee_vec3_f64 x2,
                                        double theta_max,
                                        struct omnee_error *error);
+
+// OMNEE for a batch of connections: for every lane `i`,
+// `omnee_connection_init_f32` of `connections` point `i` and `theta_max`,
+// then `omnee_omnee_sample_f32` with `phase` and `(u0[i], u1[i], u2[i])`,
+// bit for bit; a lane where either returns an error or `OMNEE_NONE` gets
+// `valid = 0` and zeros. `count` receives the number of lanes with a
+// vertex. Every phase function works (Henyey–Greenstein is vectorised,
+// tables through their own sampler).
+//
+// Errors, checked before anything is written (the arrays are then left as
+// they were, `count` is 0): `OMNEE_ERROR_NULL` (`phase`, `count`, or an
+// array of a batch with `len` > 0, named like "x0.y", "u1", "valid"),
+// `OMNEE_ERROR_UNINITIALISED` (`phase`), `OMNEE_ERROR_TABLE` (the three
+// `len`s differ, or an output array overlaps another array),
+// `OMNEE_ERROR_OUT_OF_RANGE` (`theta_max`). NaN or infinite end points or
+// numbers are not errors: their lanes have no vertex.
+//
+// # Safety
+// Each pointer in `connections`, `uniforms` and `samples` is NULL (allowed
+// with `len` 0) or points to as many elements as its struct's `len`.
+omnee_status omnee_omnee_sample_connections_f32(const struct omnee_phase_f32 *phase,
+                                                struct omnee_connections_f32 connections,
+                                                struct omnee_lane_uniforms_f32 uniforms,
+                                                struct omnee_samples_f32 samples,
+                                                size_t *count,
+                                                struct omnee_error *error);
+
+// `omnee_omnee_sample_connections_f32` in double precision.
+//
+// # Safety
+// As for `omnee_omnee_sample_connections_f32`.
+omnee_status omnee_omnee_sample_connections_f64(const struct omnee_phase_f64 *phase,
+                                                struct omnee_connections_f64 connections,
+                                                struct omnee_lane_uniforms_f64 uniforms,
+                                                struct omnee_samples_f64 samples,
+                                                size_t *count,
+                                                struct omnee_error *error);
+
+// The recommended MIS for a batch of connections: for every lane `i`,
+// `omnee_connection_init_f32` of its end points, then `omnee_mis_sample_f32`
+// with `phase`, `rays` and the six numbers `(u0[i], u1[i], u2[i])` of
+// `uniforms` and `(u0[i], u1[i], u2[i])` of `companion_uniforms`, bit for
+// bit: OMNEE's vertex into `samples`, the companion's into
+// `companion_samples` (its `valid` is 1 only where it was drawn and lies
+// behind the cone). `count` receives the number of vertices in both.
+//
+// Errors as for `omnee_omnee_sample_connections_f32`, and `rays`' own
+// (`OMNEE_ERROR_NULL`, `OMNEE_ERROR_OUT_OF_RANGE`, `OMNEE_ERROR_DEGENERATE`
+// as in `omnee_mis_sample_f32`); all five `len`s must agree.
+//
+// # Safety
+// Each pointer in `connections`, `uniforms`, `companion_uniforms`,
+// `samples` and `companion_samples` is NULL (allowed with `len` 0) or
+// points to as many elements as its struct's `len`.
+omnee_status omnee_mis_sample_connections_f32(const struct omnee_phase_f32 *phase,
+                                              const struct omnee_rays_f32 *rays,
+                                              struct omnee_connections_f32 connections,
+                                              struct omnee_lane_uniforms_f32 uniforms,
+                                              struct omnee_lane_uniforms_f32 companion_uniforms,
+                                              struct omnee_samples_f32 samples,
+                                              struct omnee_samples_f32 companion_samples,
+                                              size_t *count,
+                                              struct omnee_error *error);
+
+// `omnee_mis_sample_connections_f32` in double precision.
+//
+// # Safety
+// As for `omnee_mis_sample_connections_f32`.
+omnee_status omnee_mis_sample_connections_f64(const struct omnee_phase_f64 *phase,
+                                              const struct omnee_rays_f64 *rays,
+                                              struct omnee_connections_f64 connections,
+                                              struct omnee_lane_uniforms_f64 uniforms,
+                                              struct omnee_lane_uniforms_f64 companion_uniforms,
+                                              struct omnee_samples_f64 samples,
+                                              struct omnee_samples_f64 companion_samples,
+                                              size_t *count,
+                                              struct omnee_error *error);
 
 // Isotropic scattering, p = 1/(4π).
 omnee_status omnee_phase_iso_f32(struct omnee_phase_f32 *phase,

@@ -9,7 +9,8 @@
 //! Modules, one per part of the header:
 //! - [`status`]: `omnee_status` and the caller-owned `omnee_error` record;
 //! - [`types`]: the plain-old-data structs and the opaque objects;
-//! - [`connection`], [`phase`], [`techniques`], [`problem`]: the
+//! - [`connection`], [`phase`], [`techniques`], [`problem`],
+//!   [`connections`] (the batch over connections): the
 //!   exported functions, each pair (`_f32`, `_f64`) a thin shell around one
 //!   generic function;
 //! - `args`: checks that turn C arguments into the core's values;
@@ -38,6 +39,7 @@ extern crate std;
 mod args;
 mod boundary;
 pub mod connection;
+pub mod connections;
 pub mod phase;
 pub mod problem;
 pub mod status;

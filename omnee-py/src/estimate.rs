@@ -17,7 +17,50 @@ use omnee_render::point::problem::{Precision, Problem};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use std::f64::consts::PI;
-use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+/// How often a waiting call looks for Ctrl-C (Python's signal handlers run
+/// on the main thread, between bytecodes or when asked).
+const SIGNAL_POLL: Duration = Duration::from_millis(20);
+
+/// `work(cancel)` on a thread of its own, the GIL released, while this
+/// thread waits for it and runs Python's signal handlers every
+/// [`SIGNAL_POLL`]: a `KeyboardInterrupt` (or any exception a handler
+/// raises) sets `cancel`, which the work checks between chunks, and is
+/// raised at once; the work then stops at its next check, on its own.
+fn interruptible<T: Send + 'static>(
+    py: Python<'_>,
+    work: impl FnOnce(&AtomicBool) -> T + Send + 'static,
+) -> PyResult<T> {
+    let cancel = Arc::new(AtomicBool::new(false));
+    let waiter = std::thread::current();
+    let worker = {
+        let cancel = Arc::clone(&cancel);
+        std::thread::spawn(move || {
+            let result = work(&cancel);
+            waiter.unpark();
+            result
+        })
+    };
+    py.detach(|| {
+        while !worker.is_finished() {
+            std::thread::park_timeout(SIGNAL_POLL);
+            if worker.is_finished() {
+                break;
+            }
+            if let Err(e) = Python::attach(|py| py.check_signals()) {
+                cancel.store(true, Ordering::Relaxed);
+                return Err(e);
+            }
+        }
+        Ok(())
+    })?;
+    worker
+        .join()
+        .map_err(|panic| std::panic::resume_unwind(panic))
+}
 
 /// The precision from a numpy dtype (anything `numpy.dtype` accepts).
 fn precision(dtype: &Bound<'_, PyAny>) -> PyResult<Precision> {
@@ -51,6 +94,17 @@ fn unsigned(field: &str, n: i128, allowed: &str) -> PyResult<u64> {
     })
 }
 
+/// A Python integer as a count (`threads`), its range message where it is
+/// negative or too large.
+fn count(field: &str, n: i128, allowed: &str) -> PyResult<usize> {
+    usize::try_from(n)
+        .ok()
+        .filter(|&n| n <= 1024)
+        .ok_or_else(|| {
+            PyValueError::new_err(format!("{field} = {n} is out of range; allowed: {allowed}"))
+        })
+}
+
 /// The once-more scattered transfer from a unit point light at `x0` to a
 /// point receiver at `x2` through an infinite homogeneous medium,
 ///
@@ -59,14 +113,19 @@ fn unsigned(field: &str, n: i128, allowed: &str) -> PyResult<u64> {
 /// estimated with `samples` draws of `technique` (`omnee`, `equiangular`,
 /// `distance`, `mis` or `auto`) from the random streams of `seed`, exactly
 /// as `omnee estimate --json` does: the same arguments give the same mean and
-/// standard error. `reference=True` adds the f64 quadrature value of `I`
-/// (docs/math.md §5). Returns `Estimate(mean, stderr, reference, technique,
+/// standard error. `dtype` is the precision of the draws: float64 (the
+/// default) or float32 (the renderer's, `omnee estimate`'s default).
+/// `reference=True` adds the f64 quadrature value of `I` (docs/math.md §5).
+/// Ctrl-C raises `KeyboardInterrupt` within milliseconds (the draws stop
+/// at their next chunk). Returns `Estimate(mean, stderr, reference, technique,
 /// auto_reason, samples, accepted, mean_cosine, tau, seconds)`.
 #[pyfunction]
 #[pyo3(signature = (
     *, x0, x2, sigma_s, sigma_t, phase = None, technique = "auto", samples = 100_000, seed = 1,
     theta_max = PI, receiver_normal = None, dtype = None, reference = true, threads = 0
-))]
+), text_signature = "(*, x0, x2, sigma_s, sigma_t, phase=None, technique='auto', samples=100000, \
+    seed=1, theta_max=3.141592653589793, receiver_normal=None, dtype=None, reference=True, \
+    threads=0)")]
 #[allow(clippy::too_many_arguments)]
 pub fn estimate<'py>(
     py: Python<'py>,
@@ -82,7 +141,7 @@ pub fn estimate<'py>(
     receiver_normal: Option<&Bound<'py, PyAny>>,
     dtype: Option<&Bound<'py, PyAny>>,
     reference: bool,
-    threads: usize,
+    threads: i128,
 ) -> PyResult<Bound<'py, PyAny>> {
     let phase = match phase {
         Some(p) => crate::technique::phase_arg(p)?,
@@ -102,21 +161,20 @@ pub fn estimate<'py>(
         seed: unsigned("seed", seed, "[0, 2^64)")?,
         precision: match dtype {
             Some(d) => precision(d)?,
-            None => Precision::F32,
+            None => Precision::F64,
         },
         x0_phase: None,
         x0_incoming: None,
     };
     let samples = unsigned("samples", samples, "[1, 2^40]")?;
-    let go = AtomicBool::new(false);
-    let e = py
-        .detach(|| {
-            with_threads(threads, || {
-                run(&problem, samples, reference, Spelling::Fields, &go)
-            })
+    let threads = count("threads", threads, "[0, 1024], 0: one per core")?;
+    let e = interruptible(py, move |cancel| {
+        with_threads(threads, || {
+            run(&problem, samples, reference, Spelling::Fields, cancel)
         })
         .and_then(|e| e)
-        .map_err(error::render)?;
+    })?
+    .map_err(error::render)?;
     py.import("omnee")?.getattr("Estimate")?.call1((
         e.mean,
         e.stderr,

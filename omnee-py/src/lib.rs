@@ -18,8 +18,12 @@
 //! foreign boundary is PyO3's and rust-numpy's.
 
 mod array;
+mod batch;
+mod chunks;
+mod config;
 mod error;
 mod estimate;
+mod kernel;
 mod phase;
 mod technique;
 

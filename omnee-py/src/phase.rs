@@ -1,17 +1,17 @@
 //! `omnee.Phase`: a phase function from its spec string, evaluated and
 //! sampled elementwise over arrays of deflections θ or uniform numbers u.
 
-use crate::array::{Floats, Values, floats, output};
+use crate::array::{Bad, Floats, first_outside, floats, number, result, slice, slice_mut, zeros};
+use crate::chunks::{Items, run};
+use crate::config::canonical;
 use crate::error;
+use numpy::{Element, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use omnee_core::Real;
 use omnee_core::phase::{Deflection, Phase as CorePhase, PhaseFunction};
 use omnee_render::phase::{PhaseSpec, TableStorage};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use rayon::prelude::*;
-
-/// Inputs at least this long are split over rayon's threads.
-pub const PARALLEL_MIN: usize = 1 << 14;
+use std::hash::{Hash, Hasher};
 
 /// A phase function p(θ) of the deflection θ ∈ [0, π] between the incoming
 /// and the outgoing propagation direction (θ = 0: straight on), normalised
@@ -44,9 +44,19 @@ impl Op {
             Op::Cdf => p.cdf(Deflection::from_theta(x)),
             // Only mixtures (no sample-invertible map) give None; rejected
             // before the loop.
-            Op::Invert => p
-                .invert(Deflection::from_theta(x))
-                .unwrap_or(F::from_f64(f64::NAN)),
+            Op::Invert => p.invert(Deflection::from_theta(x)).unwrap_or(F::ZERO),
+        }
+    }
+
+    /// The argument's name, its allowed range `[0, hi]` in precision `F`
+    /// (π rounded up counts as π), and the range as printed.
+    fn domain<F: Real>(self) -> (&'static str, F, &'static str) {
+        match self {
+            Op::Sample => ("u", F::ONE, "[0, 1]"),
+            _ => {
+                let pi = F::PI.max(F::from_f64(std::f64::consts::PI));
+                ("theta", pi, "[0, pi]")
+            }
         }
     }
 }
@@ -63,27 +73,24 @@ impl Phase {
     fn map<'py>(
         &self,
         py: Python<'py>,
-        arg: &str,
         x: &Bound<'py, PyAny>,
         op: Op,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let arg = op.domain::<f64>().0;
         match floats(arg, x)? {
             Floats::F32(v) => self.map_in(py, v, op),
             Floats::F64(v) => self.map_in(py, v, op),
         }
     }
 
-    fn map_in<'py, F: Real + numpy::Element>(
+    fn map_in<'py, F: Real + Element>(
         &self,
         py: Python<'py>,
-        x: Values<F>,
+        x: PyReadonlyArrayDyn<'py, F>,
         op: Op,
     ) -> PyResult<Bound<'py, PyAny>> {
         let mut storage = TableStorage::<F>::default();
-        let phase = self
-            .spec
-            .instantiate::<F>(&mut storage)
-            .map_err(error::render)?;
+        let phase = self.instantiate::<F>(&mut storage)?;
         if matches!(op, Op::Invert) && phase.invert(Deflection::from_theta(F::ONE)).is_none() {
             return Err(PyValueError::new_err(format!(
                 "invert: the sampler of {} is not invertible (a mixture picks its lobe with u); \
@@ -91,15 +98,60 @@ impl Phase {
                 self.spec
             )));
         }
-        let phase = &phase;
-        let data = py.detach(|| {
-            if x.data.len() >= PARALLEL_MIN {
-                x.data.par_iter().map(|&v| op.apply(phase, v)).collect()
-            } else {
-                x.data.iter().map(|&v| op.apply(phase, v)).collect()
-            }
-        });
-        output(py, x.shape, data)
+        let (arg, hi, allowed) = op.domain::<F>();
+        let out = zeros::<F>(py, x.shape());
+        {
+            let mut guard = out.readwrite();
+            let all = (
+                Items {
+                    data: slice(&x),
+                    k: 1,
+                },
+                Items {
+                    data: slice_mut(&mut guard),
+                    k: 1,
+                },
+            );
+            let phase = &phase;
+            py.detach(|| {
+                run(all, |start, (x, out)| {
+                    if let Some((i, value)) = first_outside(x.data, F::ZERO, hi) {
+                        let value = number(value);
+                        return Err(Bad::Element {
+                            arg,
+                            at: start + i,
+                            value,
+                            allowed,
+                        });
+                    }
+                    for (y, &v) in out.data.iter_mut().zip(x.data) {
+                        *y = op.apply(phase, v);
+                    }
+                    Ok(())
+                })
+            })
+            .map_err(|bad| bad.into_err(x.shape()))?;
+        }
+        result(out)
+    }
+
+    /// Equal phase functions: the same kind with the same parameters (a
+    /// table: the same bins and values), compared in f64.
+    pub fn equals(&self, other: &Phase) -> PyResult<bool> {
+        let (mut a, mut b) = (TableStorage::default(), TableStorage::default());
+        Ok(self.instantiate::<f64>(&mut a)? == other.instantiate::<f64>(&mut b)?)
+    }
+
+    /// A hash of what [`Phase::equals`] compares: the kind, `g` and `B`
+    /// (equal phase functions have equal moments).
+    pub fn hash_value(&self) -> PyResult<u64> {
+        let mut storage = TableStorage::<f64>::default();
+        let p = self.instantiate::<f64>(&mut storage)?;
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        std::mem::discriminant(&p).hash(&mut h);
+        canonical(p.mean_cosine()).hash(&mut h);
+        canonical(p.backscatter_fraction()).hash(&mut h);
+        Ok(h.finish())
     }
 
     /// `g = ⟨cos θ⟩` in f64.
@@ -124,36 +176,37 @@ impl Phase {
         Self::parse(spec)
     }
 
-    /// p(θ) per steradian.
+    /// p(θ) per steradian, θ ∈ [0, π] (else `ValueError`, NaN included).
     fn eval<'py>(&self, py: Python<'py>, theta: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        self.map(py, "theta", theta, Op::Eval)
+        self.map(py, theta, Op::Eval)
     }
 
-    /// θ = P⁻¹(u): the deflection drawn from the uniform number u ∈ [0, 1),
-    /// with solid-angle density `pdf(θ)` (u is clamped to [0, 1], NaN to 0).
+    /// θ = P⁻¹(u): the deflection drawn from the uniform number u ∈ [0, 1]
+    /// (else `ValueError`, NaN included), with solid-angle density `pdf(θ)`.
     fn sample<'py>(&self, py: Python<'py>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        self.map(py, "u", u, Op::Sample)
+        self.map(py, u, Op::Sample)
     }
 
-    /// The solid-angle density of `sample` at θ; equal to `eval(θ)` (every
-    /// phase function here is sampled exactly).
+    /// The solid-angle density of `sample` at θ ∈ [0, π]; equal to
+    /// `eval(θ)` (every phase function here is sampled exactly).
     fn pdf<'py>(&self, py: Python<'py>, theta: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        self.map(py, "theta", theta, Op::Eval)
+        self.map(py, theta, Op::Eval)
     }
 
-    /// `P(Θ ≤ θ) = 2π ∫₀^θ p(θ') sin θ' dθ'`.
+    /// `P(Θ ≤ θ) = 2π ∫₀^θ p(θ') sin θ' dθ'`, θ ∈ [0, π].
     fn cdf<'py>(&self, py: Python<'py>, theta: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        self.map(py, "theta", theta, Op::Cdf)
+        self.map(py, theta, Op::Cdf)
     }
 
-    /// The u with `sample(u) = θ` (`cdf(θ)` for inverse-CDF samplers).
+    /// The u with `sample(u) = θ` (`cdf(θ)` for inverse-CDF samplers),
+    /// θ ∈ [0, π].
     /// Raises ValueError for mixtures (tthg, mie), which pick a lobe with u.
     fn invert<'py>(
         &self,
         py: Python<'py>,
         theta: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        self.map(py, "theta", theta, Op::Invert)
+        self.map(py, theta, Op::Invert)
     }
 
     /// `g = ⟨cos θ⟩ = 2π ∫₀^π p(θ) cos θ sin θ dθ` (in f64).
@@ -181,5 +234,19 @@ impl Phase {
 
     fn __getnewargs__(&self) -> (String,) {
         (self.spec.to_string(),)
+    }
+
+    /// Equal by value: the same kind of phase function with the same
+    /// parameters (`Phase("hg:0.9") == Phase(" hg:0.90")`).
+    fn __eq__(&self, other: &Bound<'_, PyAny>) -> PyResult<bool> {
+        match other.cast::<Phase>() {
+            Ok(o) => self.equals(o.get()),
+            Err(_) => Ok(false),
+        }
+    }
+
+    /// A hash of the values `==` compares.
+    fn __hash__(&self) -> PyResult<u64> {
+        self.hash_value()
     }
 }

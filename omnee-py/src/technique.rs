@@ -1,44 +1,27 @@
 //! `omnee.Omnee`, `omnee.Equiangular`, `omnee.Distance` and `omnee.Mis`:
 //! the techniques that place the once-more vertex `x1`, each the
 //! sample / pdf / invert trio of the core over arrays of uniform numbers or
-//! points (Mitsuba's `square_to_X`, `square_to_X_pdf`, `X_to_square`).
+//! points (Mitsuba's `square_to_X`, `square_to_X_pdf`, `X_to_square`),
+//! for one connection or one per row.
 //!
 //! They share one base class, `omnee.Technique`, whose methods do the work;
-//! the subclasses only construct it.
+//! the subclasses construct it, and those that have an inverse (all but
+//! MIS) offer `invert`.
 
-use crate::array::{Floats, Values, coords, floats, output, point, vec3, with_axes};
-use crate::error;
-use crate::phase::{PARALLEL_MIN, Phase};
-use omnee_core::medium::Region;
-use omnee_core::method::{Method, Setup};
-use omnee_core::phase::Phase as CorePhase;
-use omnee_core::sampling::{
-    Connection, Directions, Distance as CoreDistance, Equiangular as CoreEquiangular,
-    Omnee as CoreOmnee, Sample, Technique as CoreTechnique,
+use crate::array::{
+    Floats, floats, out_array, readwrite, result, rows, shape_text, slice, slice_mut, with_axes,
+    zeros,
 };
-use omnee_core::{Real, Vector};
-use omnee_render::phase::TableStorage;
-use pyo3::exceptions::PyNotImplementedError;
+use crate::config::{Config, End};
+use crate::kernel::{SampleOut, uniforms, vertices};
+use crate::phase::Phase;
+use numpy::{Element, PyArrayDyn, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use omnee_core::Real;
+use omnee_core::method::Method;
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use rayon::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
 use std::f64::consts::PI;
-
-/// Uniform numbers per draw of `method`: 3, or 6 for MIS (OMNEE's, then
-/// the companion's).
-fn uniforms(method: Method) -> usize {
-    match method {
-        Method::Mis => 6,
-        _ => 3,
-    }
-}
-
-/// Vertices per draw of `method`: 1, or 2 for MIS.
-fn vertices(method: Method) -> usize {
-    match method {
-        Method::Mis => 2,
-        _ => 1,
-    }
-}
 
 /// The Python class of `method`.
 fn class_name(method: Method) -> &'static str {
@@ -50,138 +33,51 @@ fn class_name(method: Method) -> &'static str {
     }
 }
 
-/// A technique's parameters in f64, as given (validated in f64 by the
-/// constructor; a computation in f32 validates them again in f32).
-#[derive(Clone, Debug)]
-struct Config {
-    method: Method,
-    x0: [f64; 3],
-    x2: [f64; 3],
-    theta_max: f64,
-    phase: Phase,
-    /// Cosine-weighted ray directions about this normal; `None`: the sphere.
-    normal: Option<[f64; 3]>,
-    /// The slab `z_min ≤ z ≤ z_max` the medium fills; `None`: everywhere.
-    slab: Option<(f64, f64)>,
-    /// Distance sampling's free-flight coefficient σt (0 for the others).
-    sigma_t: f64,
-}
-
-/// The configuration in precision `F`: the core's [`Setup`] (borrowing the
-/// phase function) with the method and the connection it draws for.
-#[derive(Clone, Copy)]
-struct Parts<'a, F: Real> {
-    method: Method,
-    connection: Connection<F>,
-    setup: Setup<F, &'a CorePhase<'a, F>>,
-}
-
-impl Config {
-    /// Runs `f` with the configuration in precision `F`; fails with the
-    /// core's error (a `ValueError` naming the field) where `F` cannot hold it.
-    fn with<F: Real, T>(&self, f: impl FnOnce(Parts<'_, F>) -> T) -> PyResult<T> {
-        let connection = Connection::new(
-            vec3::<F>(self.x0),
-            vec3::<F>(self.x2),
-            F::from_f64(self.theta_max),
-        )
-        .map_err(error::core)?;
-        let directions = match self.normal {
-            Some(n) => Directions::cosine(vec3::<F>(n)).map_err(error::core)?,
-            None => Directions::Sphere,
-        };
-        let region = match self.slab {
-            Some((lo, hi)) => {
-                Region::slab(F::from_f64(lo), F::from_f64(hi)).map_err(error::core)?
-            }
-            None => Region::Everywhere,
-        };
-        let mut storage = TableStorage::<F>::default();
-        let phase = self.phase.instantiate::<F>(&mut storage)?;
-        let setup = Setup::new(&phase, directions, region, F::from_f64(self.sigma_t))
-            .map_err(error::core)?;
-        Ok(f(Parts {
-            method: self.method,
-            connection,
-            setup,
-        }))
+/// The arrays `out` names (a sequence of `names.len()` arrays), or `None`.
+fn outs<'py>(
+    out: Option<&Bound<'py, PyAny>>,
+    names: &[&str],
+) -> PyResult<Option<Vec<Bound<'py, PyAny>>>> {
+    let Some(out) = out else { return Ok(None) };
+    let items: Vec<Bound<'py, PyAny>> = out
+        .try_iter()
+        .map_err(|_| {
+            PyTypeError::new_err(format!("out: allowed: a sequence ({})", names.join(", ")))
+        })?
+        .collect::<PyResult<_>>()?;
+    if items.len() != names.len() {
+        return Err(PyValueError::new_err(format!(
+            "out: {} arrays; allowed: {} ({})",
+            items.len(),
+            names.len(),
+            names.join(", ")
+        )));
     }
+    Ok(Some(items))
 }
 
-/// One draw's vertices (the second only for MIS's companion).
-type Vertices<F> = [Option<Sample<F>>; 2];
-
-impl<F: Real> Parts<'_, F> {
-    /// The draws for consecutive rows of `uniforms(method)` numbers, each
-    /// row the number source of one [`Setup::draw`].
-    fn draws(&self, u: &[F]) -> Vec<Vertices<F>> {
-        u.chunks_exact(uniforms(self.method))
-            .map(|row| {
-                let mut next = row.iter().copied();
-                let draw = self.setup.draw(self.method, self.connection, || {
-                    next.next().unwrap_or(F::ZERO)
-                });
-                draw.vertices
-            })
-            .collect()
-    }
-
-    /// The density the vertices come with, at each point ([`Setup::pdf`]).
-    fn pdfs(&self, x1: &[F]) -> Vec<F> {
-        x1.chunks_exact(3)
-            .map(|p| {
-                let x1 = F::Vec3::new(p[0], p[1], p[2]);
-                self.setup.pdf(self.method, self.connection, x1)
-            })
-            .collect()
-    }
-
-    /// `f` with the method's own technique, whose [`CoreTechnique::invert`]
-    /// gives the uniform numbers of a point (the core's [`Setup`] has no
-    /// inverse); MIS has none (OMNEE and the companion can draw the same
-    /// point).
-    fn invertible<T>(&self, f: impl FnOnce(&(dyn CoreTechnique<F> + Sync)) -> T) -> PyResult<T> {
-        let (s, c) = (&self.setup, self.connection);
-        let (phase, directions, region) = (*s.phase(), s.directions(), s.region());
-        Ok(match self.method {
-            Method::Omnee => f(&CoreOmnee::new(c, phase)),
-            Method::Equiangular => f(&CoreEquiangular::new(c, phase, directions, region)),
-            Method::Distance => f(
-                &CoreDistance::new(c, phase, directions, region, s.sigma_t())
-                    .map_err(error::core)?,
-            ),
-            Method::Mis => return Err(mis_not_invertible()),
-        })
-    }
-}
-
-/// The uniform numbers that give each point of `x1`, where `technique`'s
-/// map is invertible.
-fn inverses<F: Real>(technique: &dyn CoreTechnique<F>, x1: &[F]) -> Vec<Option<[F; 3]>> {
-    x1.chunks_exact(3)
-        .map(|p| technique.invert(F::Vec3::new(p[0], p[1], p[2])))
-        .collect()
-}
-
-/// `Mis.invert`'s error.
-fn mis_not_invertible() -> PyErr {
-    PyNotImplementedError::new_err(
-        "Mis.invert: MIS is not invertible (OMNEE and the companion can draw the same x1); \
-         invert Omnee or Equiangular",
-    )
-}
-
-/// `f` over `data` in tuples of `k`, in parallel for long inputs, results in order.
-fn chunked<F: Sync, T: Send>(
-    data: &[F],
+/// Output `k` of `out` (called `name`) checked against `shape`, or a new
+/// zeroed array.
+fn output<'py, T: Element>(
+    py: Python<'py>,
+    out: &Option<Vec<Bound<'py, PyAny>>>,
     k: usize,
-    f: impl Fn(&[F]) -> Vec<T> + Sync + Send,
-) -> Vec<T> {
-    if data.len() < PARALLEL_MIN {
-        return f(data);
+    name: &str,
+    shape: &[usize],
+) -> PyResult<Bound<'py, PyArrayDyn<T>>> {
+    match out {
+        Some(items) => out_array::<T>(&format!("out[{k}] ({name})"), &items[k], shape),
+        None => Ok(zeros::<T>(py, shape)),
     }
-    let rows = (PARALLEL_MIN / k).max(1) * k;
-    data.par_chunks(rows).flat_map_iter(f).collect()
+}
+
+/// What a call returns: the caller's `out` arrays as given, or the new
+/// ones, a 0-d result as a numpy scalar.
+fn returned<'py, T: Element>(
+    a: Bound<'py, PyArrayDyn<T>>,
+    given: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    if given { Ok(a.into_any()) } else { result(a) }
 }
 
 /// A technique for placing the scattering vertex `x1` of the once-more
@@ -191,131 +87,183 @@ fn chunked<F: Sync, T: Send>(
 #[pyclass(module = "omnee", subclass, frozen)]
 pub struct Technique {
     config: Config,
+    /// The number of connections given per row (`None`: one connection).
+    rows: Option<usize>,
 }
 
 impl Technique {
-    fn sample_in<'py, F: Real + numpy::Element>(
+    /// The leading shape of an argument of shape `(..., k)` and the items
+    /// per row: with connections per row the first axis must be theirs.
+    fn lead(&self, arg: &str, shape: &[usize], k: usize) -> PyResult<(Vec<usize>, usize)> {
+        let lead = rows(arg, shape, k)?;
+        match self.rows {
+            None => Ok((lead, 1)),
+            Some(n) if lead.first() == Some(&n) => {
+                let per_row = lead[1..].iter().product();
+                Ok((lead, per_row))
+            }
+            Some(n) => Err(PyValueError::new_err(format!(
+                "{arg}: shape {}; allowed: ({n}, ..., {k}), one row per connection (x0 and x2 \
+                 have {n} rows)",
+                shape_text(shape)
+            ))),
+        }
+    }
+
+    fn sample_in<'py, F: Real + Element>(
         &self,
         py: Python<'py>,
-        u: Values<F>,
+        u: PyReadonlyArrayDyn<'py, F>,
+        out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let method = self.config.method;
-        let lead = u.rows("u", uniforms(method))?;
-        let draws = self.config.with::<F, _>(|parts| {
-            py.detach(|| chunked(&u.data, uniforms(method), |u| parts.draws(u)))
-        })?;
-        let vertices = vertices(method);
-        let n = draws.len() * vertices;
-        let (mut x1, mut pdf, mut weight, mut valid) = (
-            Vec::with_capacity(3 * n),
-            Vec::with_capacity(n),
-            Vec::with_capacity(n),
-            Vec::with_capacity(n),
-        );
-        for vertex in draws.iter().flat_map(|d| &d[..vertices]) {
-            let s = vertex.unwrap_or(Sample {
-                x1: F::Vec3::new(F::ZERO, F::ZERO, F::ZERO),
-                pdf: F::ZERO,
-                weight: F::ZERO,
-            });
-            x1.extend(coords::<F>(s.x1));
-            pdf.push(s.pdf);
-            weight.push(s.weight);
-            valid.push(vertex.is_some());
-        }
-        let per_draw = if vertices == 1 {
-            vec![]
-        } else {
-            vec![vertices]
+        let (lead, per_row) = self.lead("u", u.shape(), uniforms(method))?;
+        let shape = match vertices(method) {
+            1 => lead,
+            v => with_axes(&lead, &[v]),
         };
-        let shape = with_axes(&lead, &per_draw);
-        let samples = py.import("omnee")?.getattr("Samples")?;
-        samples.call1((
-            output(py, with_axes(&shape, &[3]), x1)?,
-            output(py, shape.clone(), pdf)?,
-            output(py, shape.clone(), weight)?,
-            output(py, shape, valid)?,
+        let given = outs(out, &["x1", "pdf", "weight", "valid"])?;
+        let x1 = output::<F>(py, &given, 0, "x1", &with_axes(&shape, &[3]))?;
+        let pdf = output::<F>(py, &given, 1, "pdf", &shape)?;
+        let weight = output::<F>(py, &given, 2, "weight", &shape)?;
+        let valid = output::<bool>(py, &given, 3, "valid", &shape)?;
+        {
+            let (mut a, mut b) = (
+                readwrite("out[0] (x1)", &x1)?,
+                readwrite("out[1] (pdf)", &pdf)?,
+            );
+            let mut c = readwrite("out[2] (weight)", &weight)?;
+            let mut d = readwrite("out[3] (valid)", &valid)?;
+            let out = SampleOut {
+                x1: slice_mut(&mut a),
+                pdf: slice_mut(&mut b),
+                weight: slice_mut(&mut c),
+                valid: slice_mut(&mut d),
+            };
+            let u_values = slice(&u);
+            self.config
+                .with::<F, _>(py, self.rows, per_row, |cx| {
+                    py.detach(|| cx.sample(u_values, out))
+                })?
+                .map_err(|bad| bad.into_err(u.shape()))?;
+        }
+        let given = given.is_some();
+        py.import("omnee")?.getattr("Samples")?.call1((
+            returned(x1, given)?,
+            returned(pdf, given)?,
+            returned(weight, given)?,
+            returned(valid, given)?,
         ))
     }
 
-    fn pdf_in<'py, F: Real + numpy::Element>(
+    fn pdf_in<'py, F: Real + Element>(
         &self,
         py: Python<'py>,
-        x1: Values<F>,
+        x1: PyReadonlyArrayDyn<'py, F>,
+        out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let lead = x1.rows("x1", 3)?;
-        let pdf = self
-            .config
-            .with::<F, _>(|parts| py.detach(|| chunked(&x1.data, 3, |x| parts.pdfs(x))))?;
-        output(py, lead, pdf)
+        let (lead, per_row) = self.lead("x1", x1.shape(), 3)?;
+        let given = out.map(|o| vec![o.clone()]);
+        let pdf = output::<F>(py, &given, 0, "pdf", &lead)?;
+        {
+            let mut a = readwrite("out", &pdf)?;
+            let (points, out) = (slice(&x1), slice_mut(&mut a));
+            self.config
+                .with::<F, _>(py, self.rows, per_row, |cx| {
+                    py.detach(|| cx.pdf(points, out))
+                })?
+                .map_err(|bad| bad.into_err(x1.shape()))?;
+        }
+        returned(pdf, given.is_some())
     }
 
-    fn invert_in<'py, F: Real + numpy::Element>(
+    fn invert_in<'py, F: Real + Element>(
         &self,
         py: Python<'py>,
-        x1: Values<F>,
+        x1: PyReadonlyArrayDyn<'py, F>,
+        out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let lead = x1.rows("x1", 3)?;
-        let inverses = self.config.with::<F, _>(|parts| {
-            parts.invertible(|t| py.detach(|| chunked(&x1.data, 3, |x| inverses(t, x))))
-        })??;
-        let u: Vec<F> = inverses
-            .iter()
-            .flat_map(|u| u.unwrap_or([F::ZERO; 3]))
-            .collect();
-        let valid: Vec<bool> = inverses.iter().map(Option::is_some).collect();
-        let inversion = py.import("omnee")?.getattr("Inversion")?;
-        inversion.call1((
-            output(py, with_axes(&lead, &[3]), u)?,
-            output(py, lead, valid)?,
-        ))
+        let (lead, per_row) = self.lead("x1", x1.shape(), 3)?;
+        let given = outs(out, &["u", "valid"])?;
+        let u = output::<F>(py, &given, 0, "u", &with_axes(&lead, &[3]))?;
+        let valid = output::<bool>(py, &given, 1, "valid", &lead)?;
+        {
+            let (mut a, mut b) = (
+                readwrite("out[0] (u)", &u)?,
+                readwrite("out[1] (valid)", &valid)?,
+            );
+            let (points, u, valid) = (slice(&x1), slice_mut(&mut a), slice_mut(&mut b));
+            self.config
+                .with::<F, _>(py, self.rows, per_row, |cx| {
+                    py.detach(|| cx.invert(points, u, valid))
+                })?
+                .map_err(|bad| bad.into_err(x1.shape()))?;
+        }
+        let given = given.is_some();
+        py.import("omnee")?
+            .getattr("Inversion")?
+            .call1((returned(u, given)?, returned(valid, given)?))
+    }
+
+    /// `invert` of the subclasses that have one.
+    fn invert<'py>(
+        &self,
+        py: Python<'py>,
+        x1: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        match floats("x1", x1)? {
+            Floats::F32(v) => self.invert_in(py, v, out),
+            Floats::F64(v) => self.invert_in(py, v, out),
+        }
     }
 }
 
 #[pymethods]
 impl Technique {
     /// Draws `x1` from uniform numbers `u` of shape `(..., 3)` (`(..., 6)`
-    /// for `Mis`), returning `Samples(x1, pdf, weight, valid)`.
-    fn sample<'py>(&self, py: Python<'py>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+    /// for `Mis`; with connections per row `(N, ..., 3)`, row `i` of `u`
+    /// for connection `i`), each in [0, 1], returning
+    /// `Samples(x1, pdf, weight, valid)`; into the arrays of `out` if given.
+    #[pyo3(signature = (u, out = None))]
+    fn sample<'py>(
+        &self,
+        py: Python<'py>,
+        u: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         match floats("u", u)? {
-            Floats::F32(v) => self.sample_in(py, v),
-            Floats::F64(v) => self.sample_in(py, v),
+            Floats::F32(v) => self.sample_in(py, v, out),
+            Floats::F64(v) => self.sample_in(py, v, out),
         }
     }
 
     /// The volume density (m⁻³) with which `sample` draws `x1` of shape
-    /// `(..., 3)`; 0 where it never samples.
-    fn pdf<'py>(&self, py: Python<'py>, x1: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+    /// `(..., 3)` (per row: `(N, ..., 3)`); 0 where it never samples; into
+    /// `out` if given.
+    #[pyo3(signature = (x1, out = None))]
+    fn pdf<'py>(
+        &self,
+        py: Python<'py>,
+        x1: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         match floats("x1", x1)? {
-            Floats::F32(v) => self.pdf_in(py, v),
-            Floats::F64(v) => self.pdf_in(py, v),
+            Floats::F32(v) => self.pdf_in(py, v, out),
+            Floats::F64(v) => self.pdf_in(py, v, out),
         }
     }
 
-    /// The uniform numbers that `sample` maps to `x1` (shape `(..., 3)`),
-    /// returning `Inversion(u, valid)`.
-    fn invert<'py>(&self, py: Python<'py>, x1: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        if self.config.method == Method::Mis {
-            return Err(mis_not_invertible());
-        }
-        match floats("x1", x1)? {
-            Floats::F32(v) => self.invert_in(py, v),
-            Floats::F64(v) => self.invert_in(py, v),
-        }
-    }
-
-    /// The light-side end point.
+    /// The light-side end point: `(x, y, z)`, or the `(N, 3)` array.
     #[getter]
-    fn x0(&self) -> (f64, f64, f64) {
-        let [x, y, z] = self.config.x0;
-        (x, y, z)
+    fn x0<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.config.x0.to_object(py)
     }
 
-    /// The receiver-side end point.
+    /// The receiver-side end point: `(x, y, z)`, or the `(N, 3)` array.
     #[getter]
-    fn x2(&self) -> (f64, f64, f64) {
-        let [x, y, z] = self.config.x2;
-        (x, y, z)
+    fn x2<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.config.x2.to_object(py)
     }
 
     /// The restriction θ < θmax of the integrand, θmax ∈ (0, π].
@@ -336,28 +284,58 @@ impl Technique {
         uniforms(self.config.method)
     }
 
-    fn __repr__(&self) -> String {
+    /// The number of connections given per row (the first axis of `x0`,
+    /// `x2` or `normal`), or `None` for one connection.
+    #[getter]
+    fn rows(&self) -> Option<usize> {
+        self.rows
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let name = class_name(self.config.method);
+        format!("omnee.{name}({})", self.config.text(py))
+    }
+
+    /// Equal by value: the same technique with equal parameters (end
+    /// points and normals compared coordinate by coordinate, the phase
+    /// functions by their parameters).
+    fn __eq__(&self, py: Python<'_>, other: &Bound<'_, PyAny>) -> PyResult<bool> {
+        match other.cast::<Technique>() {
+            Ok(o) => self.config.equals(&o.get().config, py),
+            Err(_) => Ok(false),
+        }
+    }
+
+    /// A hash of the values `==` compares.
+    fn __hash__(&self, py: Python<'_>) -> PyResult<u64> {
+        self.config.hash(py)
+    }
+
+    /// The constructor's arguments, for pickle (`copyreg.__newobj_ex__`).
+    fn __getnewargs_ex__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyTuple>, Bound<'py, PyDict>)> {
         let c = &self.config;
-        let mut s = format!(
-            "omnee.{}(x0={:?}, x2={:?}, phase={:?}, theta_max={}",
-            class_name(c.method),
-            c.x0,
-            c.x2,
-            c.phase.spec.to_string(),
-            c.theta_max
-        );
+        let args = PyTuple::new(
+            py,
+            [
+                c.x0.to_object(py)?,
+                c.x2.to_object(py)?,
+                Bound::new(py, c.phase.clone())?.into_any(),
+            ],
+        )?;
+        let kwargs = PyDict::new(py);
+        kwargs.set_item("theta_max", c.theta_max)?;
         if c.method == Method::Distance {
-            s += &format!(", sigma_t={}", c.sigma_t);
+            kwargs.set_item("sigma_t", c.sigma_t)?;
         }
         if c.method != Method::Omnee {
-            if let Some(n) = c.normal {
-                s += &format!(", normal={n:?}");
-            }
-            if let Some(z) = c.slab {
-                s += &format!(", slab={z:?}");
-            }
+            let normal = c.normal.as_ref().map(|n| n.to_object(py)).transpose()?;
+            kwargs.set_item("normal", normal)?;
+            kwargs.set_item("slab", c.slab)?;
         }
-        s + ")"
+        Ok((args, kwargs))
     }
 }
 
@@ -367,59 +345,84 @@ pub(crate) fn phase_arg(obj: &Bound<'_, PyAny>) -> PyResult<Phase> {
         return Ok(p.get().clone());
     }
     let spec: String = obj.extract().map_err(|_| {
-        pyo3::exceptions::PyTypeError::new_err(
-            "phase: expected an omnee.Phase or a spec string such as \"hg:0.9\"",
-        )
+        PyTypeError::new_err("phase: expected an omnee.Phase or a spec string such as \"hg:0.9\"")
     })?;
     Phase::parse(&spec)
 }
 
-/// Builds the base class, checking the configuration in f64.
-#[allow(clippy::too_many_arguments)]
-fn technique(
-    method: Method,
-    x0: &Bound<'_, PyAny>,
-    x2: &Bound<'_, PyAny>,
-    phase: &Bound<'_, PyAny>,
+/// The parameters of a technique as its constructor takes them.
+struct Args<'a, 'py> {
+    x0: &'a Bound<'py, PyAny>,
+    x2: &'a Bound<'py, PyAny>,
+    phase: &'a Bound<'py, PyAny>,
     theta_max: f64,
-    normal: Option<&Bound<'_, PyAny>>,
+    normal: Option<&'a Bound<'py, PyAny>>,
     slab: Option<(f64, f64)>,
     sigma_t: f64,
-) -> PyResult<PyClassInitializer<Technique>> {
+}
+
+/// Builds the base class, checking every parameter (every row's) in f64.
+fn technique(method: Method, a: Args<'_, '_>) -> PyResult<PyClassInitializer<Technique>> {
+    let py = a.x0.py();
     let config = Config {
         method,
-        x0: point("x0", x0)?,
-        x2: point("x2", x2)?,
-        theta_max,
-        phase: phase_arg(phase)?,
-        normal: normal.map(|n| point("normal", n)).transpose()?,
-        slab,
-        sigma_t,
+        x0: End::parse("x0", a.x0)?,
+        x2: End::parse("x2", a.x2)?,
+        theta_max: a.theta_max,
+        phase: phase_arg(a.phase)?,
+        normal: a.normal.map(|n| End::parse("normal", n)).transpose()?,
+        slab: a.slab,
+        sigma_t: a.sigma_t,
     };
-    config.with::<f64, _>(|_| ())?;
-    Ok(PyClassInitializer::from(Technique { config }))
+    let rows = config.rows(py)?;
+    config.check(py, rows)?;
+    Ok(PyClassInitializer::from(Technique { config, rows }))
 }
 
 /// OMNEE (docs/math.md §3): θ from the phase function with `u0`, `β = u1 θ`,
 /// `φ = 2π u2` on the circumcircle arc through `x0` and `x2`;
 /// `pdf(x1) = p(θ) (sin θ/θ) s / (d1² d2²)`, weight `k/pdf = θ/(s sin θ)`.
+///
+/// `x0`, `x2`: points of shape `(3,)`, or `(N, 3)` for one connection per row.
 #[pyclass(module = "omnee", extends = Technique, frozen)]
 pub struct Omnee;
 
 #[pymethods]
 impl Omnee {
     #[new]
-    #[pyo3(signature = (x0, x2, phase, theta_max = PI))]
+    #[pyo3(
+        signature = (x0, x2, phase, theta_max = PI),
+        text_signature = "(x0, x2, phase, theta_max=3.141592653589793)"
+    )]
     fn new(
         x0: &Bound<'_, PyAny>,
         x2: &Bound<'_, PyAny>,
         phase: &Bound<'_, PyAny>,
         theta_max: f64,
     ) -> PyResult<PyClassInitializer<Self>> {
-        Ok(
-            technique(Method::Omnee, x0, x2, phase, theta_max, None, None, 0.0)?
-                .add_subclass(Omnee),
-        )
+        let (normal, slab, sigma_t) = (None, None, 0.0);
+        let args = Args {
+            x0,
+            x2,
+            phase,
+            theta_max,
+            normal,
+            slab,
+            sigma_t,
+        };
+        Ok(technique(Method::Omnee, args)?.add_subclass(Omnee))
+    }
+
+    /// The uniform numbers that `sample` maps to points `x1` of shape
+    /// `(..., 3)` (per row: `(N, ..., 3)`), returning `Inversion(u, valid)`;
+    /// into the arrays of `out` if given.
+    #[pyo3(signature = (x1, out = None))]
+    fn invert<'py>(
+        slf: &Bound<'py, Self>,
+        x1: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        slf.as_super().get().invert(slf.py(), x1, out)
     }
 }
 
@@ -428,13 +431,18 @@ impl Omnee {
 /// about `normal`), then the distance along it with density ∝ 1/d1² inside
 /// the medium (all of space, or the `slab` (z_min, z_max)):
 /// `pdf(x1) = pdf_ω(ω) c / (d1² d2²)`, weight `p(θ) / (pdf_ω(ω) c)`.
+///
+/// `x0`, `x2`, `normal`: points of shape `(3,)`, or `(N, 3)` per row.
 #[pyclass(module = "omnee", extends = Technique, frozen)]
 pub struct Equiangular;
 
 #[pymethods]
 impl Equiangular {
     #[new]
-    #[pyo3(signature = (x0, x2, phase, theta_max = PI, normal = None, slab = None))]
+    #[pyo3(
+        signature = (x0, x2, phase, theta_max = PI, normal = None, slab = None),
+        text_signature = "(x0, x2, phase, theta_max=3.141592653589793, normal=None, slab=None)"
+    )]
     fn new(
         x0: &Bound<'_, PyAny>,
         x2: &Bound<'_, PyAny>,
@@ -443,9 +451,28 @@ impl Equiangular {
         normal: Option<&Bound<'_, PyAny>>,
         slab: Option<(f64, f64)>,
     ) -> PyResult<PyClassInitializer<Self>> {
-        let method = Method::Equiangular;
-        let base = technique(method, x0, x2, phase, theta_max, normal, slab, 0.0)?;
-        Ok(base.add_subclass(Equiangular))
+        let args = Args {
+            x0,
+            x2,
+            phase,
+            theta_max,
+            normal,
+            slab,
+            sigma_t: 0.0,
+        };
+        Ok(technique(Method::Equiangular, args)?.add_subclass(Equiangular))
+    }
+
+    /// The uniform numbers that `sample` maps to points `x1` of shape
+    /// `(..., 3)` (per row: `(N, ..., 3)`), returning `Inversion(u, valid)`;
+    /// into the arrays of `out` if given.
+    #[pyo3(signature = (x1, out = None))]
+    fn invert<'py>(
+        slf: &Bound<'py, Self>,
+        x1: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        slf.as_super().get().invert(slf.py(), x1, out)
     }
 }
 
@@ -453,13 +480,19 @@ impl Equiangular {
 /// `Equiangular`, then the exponential free-flight distance with
 /// coefficient `sigma_t` on the medium segment [t_a, t_b]:
 /// `pdf(t) = σ e^{−σ (t − t_a)} / (1 − e^{−σ L})`, `pdf(x1) = pdf_ω(ω) pdf(t) / t²`.
+/// `sigma_t` ∈ (0, ∞) in a medium without bounds, [0, ∞) with a slab.
+///
+/// `x0`, `x2`, `normal`: points of shape `(3,)`, or `(N, 3)` per row.
 #[pyclass(module = "omnee", extends = Technique, frozen)]
 pub struct Distance;
 
 #[pymethods]
 impl Distance {
     #[new]
-    #[pyo3(signature = (x0, x2, phase, sigma_t, theta_max = PI, normal = None, slab = None))]
+    #[pyo3(
+        signature = (x0, x2, phase, sigma_t, theta_max = PI, normal = None, slab = None),
+        text_signature = "(x0, x2, phase, sigma_t, theta_max=3.141592653589793, normal=None, slab=None)"
+    )]
     #[allow(clippy::too_many_arguments)]
     fn new(
         x0: &Bound<'_, PyAny>,
@@ -470,9 +503,28 @@ impl Distance {
         normal: Option<&Bound<'_, PyAny>>,
         slab: Option<(f64, f64)>,
     ) -> PyResult<PyClassInitializer<Self>> {
-        let method = Method::Distance;
-        let base = technique(method, x0, x2, phase, theta_max, normal, slab, sigma_t)?;
-        Ok(base.add_subclass(Distance))
+        let args = Args {
+            x0,
+            x2,
+            phase,
+            theta_max,
+            normal,
+            slab,
+            sigma_t,
+        };
+        Ok(technique(Method::Distance, args)?.add_subclass(Distance))
+    }
+
+    /// The uniform numbers that `sample` maps to points `x1` of shape
+    /// `(..., 3)` (per row: `(N, ..., 3)`), returning `Inversion(u, valid)`;
+    /// into the arrays of `out` if given.
+    #[pyo3(signature = (x1, out = None))]
+    fn invert<'py>(
+        slf: &Bound<'py, Self>,
+        x1: &Bound<'py, PyAny>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        slf.as_super().get().invert(slf.py(), x1, out)
     }
 }
 
@@ -480,14 +532,20 @@ impl Distance {
 /// always, and when `u3 < c = 0.05` an equiangular companion from
 /// `(u3/c, u4, u5)` kept behind the cone θ ≥ 3π/4; balance heuristic
 /// there (`pdf = p_O + c p_E`), OMNEE alone in front of it. The estimate is
-/// the sum of `f_c · weight` over both vertices of a draw.
+/// the sum of `f_c · weight` over both vertices of a draw. It has no
+/// `invert` (OMNEE and the companion can draw the same `x1`).
+///
+/// `x0`, `x2`, `normal`: points of shape `(3,)`, or `(N, 3)` per row.
 #[pyclass(module = "omnee", extends = Technique, frozen)]
 pub struct Mis;
 
 #[pymethods]
 impl Mis {
     #[new]
-    #[pyo3(signature = (x0, x2, phase, theta_max = PI, normal = None, slab = None))]
+    #[pyo3(
+        signature = (x0, x2, phase, theta_max = PI, normal = None, slab = None),
+        text_signature = "(x0, x2, phase, theta_max=3.141592653589793, normal=None, slab=None)"
+    )]
     fn new(
         x0: &Bound<'_, PyAny>,
         x2: &Bound<'_, PyAny>,
@@ -496,6 +554,15 @@ impl Mis {
         normal: Option<&Bound<'_, PyAny>>,
         slab: Option<(f64, f64)>,
     ) -> PyResult<PyClassInitializer<Self>> {
-        Ok(technique(Method::Mis, x0, x2, phase, theta_max, normal, slab, 0.0)?.add_subclass(Mis))
+        let args = Args {
+            x0,
+            x2,
+            phase,
+            theta_max,
+            normal,
+            slab,
+            sigma_t: 0.0,
+        };
+        Ok(technique(Method::Mis, args)?.add_subclass(Mis))
     }
 }

@@ -1,8 +1,11 @@
-"""The examples in the documentation run: the package docstring's doctest and
-the README's "Use from Python" block."""
+"""The examples in the documentation run: the package docstring's doctest,
+the python blocks of omnee-py/README.md (the wheel's description) and of
+the repository's README."""
 
 import doctest
 import re
+
+import pytest
 
 import omnee
 from conftest import REPO
@@ -13,9 +16,17 @@ def test_package_docstring_examples():
     assert result.attempted > 0 and result.failed == 0
 
 
-def test_readme_python_example():
-    readme = (REPO / "README.md").read_text(encoding="utf-8")
-    blocks = re.findall(r"```python\n(.*?)```", readme, flags=re.S)
-    assert blocks, "README.md has no python block"
+@pytest.mark.parametrize("readme", ["omnee-py/README.md", "README.md"])
+def test_readme_python_examples(readme):
+    text = (REPO / readme).read_text(encoding="utf-8")
+    blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
+    assert blocks, f"{readme} has no python block"
     for block in blocks:
-        exec(compile(block, "README.md", "exec"), {})
+        exec(compile(block, readme, "exec"), {})
+
+
+def test_the_wheel_readme_links_nothing_outside_the_package():
+    """The README is the wheel's description: a relative link out of
+    omnee-py/ (such as ../README.md) is broken there."""
+    text = (REPO / "omnee-py" / "README.md").read_text(encoding="utf-8")
+    assert not re.findall(r"\]\((?!https?://)[^)]*\)", text)

@@ -12,6 +12,8 @@ import omnee
 
 CASES = [
     dict(x0=(0, 0, 1), x2=(0, 0, 0), phase="hg:0.9", sigma_s=0.5, sigma_t=0.55, technique="auto"),
+    dict(x0=(0, 0, 1), x2=(0, 0, 0), phase="hg:0.9", sigma_s=0.5, sigma_t=0.55, technique="omnee",
+         dtype="float32"),
     dict(x0=(0, 0, 1), x2=(0, 0, 0), phase="iso", sigma_s=0.5, sigma_t=0.55, technique="mis", dtype="float64"),
     dict(x0=(1, 2, 3), x2=(-1, 0.5, 2), phase="tthg:0.99,-0.44,0.96", sigma_s=0.2, sigma_t=0.3,
          technique="omnee", theta_max=np.pi / 2, receiver_normal=(0, 0, 1)),
@@ -31,7 +33,8 @@ def cli_args(case):
             "--seed", str(case.get("seed", 1)), "--theta-max", repr(float(case.get("theta_max", np.pi)))]
     if "receiver_normal" in case:
         args += ["--receiver-normal", v(case["receiver_normal"])]
-    if np.dtype(case.get("dtype", "float32")) == np.float64:
+    # omnee estimate computes in f32 unless told; omnee.estimate in f64.
+    if np.dtype(case.get("dtype", "float64")) == np.float64:
         args += ["--precision", "f64"]
     return args
 
@@ -81,6 +84,10 @@ def test_independent_of_threads():
         (dict(samples=-1), ValueError, r"samples = -1 is out of range; allowed: \[1, 2\^40\]"),
         (dict(seed=-1), ValueError, r"seed = -1 is out of range; allowed: \[0, 2\^64\)"),
         (dict(samples=1.5), TypeError, ""),
+        (dict(threads=-1), ValueError, r"threads = -1 is out of range; allowed: \[0, 1024\]"),
+        (dict(threads=2**70), ValueError, r"threads = 1180591620717411303424 is out of range"),
+        (dict(theta_max=np.nan), ValueError, r"theta_max = NaN is out of range"),
+        (dict(x0=(0, 0, np.nan)), ValueError, r"x0"),
     ],
 )
 def test_bad_arguments(change, error, message):
@@ -88,3 +95,37 @@ def test_bad_arguments(change, error, message):
     kw.update(change)
     with pytest.raises(error, match=message or None):
         omnee.estimate(**kw)
+
+
+def test_float64_by_default_so_that_a_small_transfer_does_not_underflow():
+    """e^{-σt (d1 + d2)} ≤ e^{-140} ≈ 1.6e-61: 0 in f32, a number in f64,
+    where it agrees with the reference."""
+    kw = dict(x0=(0, 0, 1), x2=(0, 0, 0), phase="hg:0.5", sigma_s=100.0, sigma_t=140.0,
+              technique="omnee", samples=50_000, seed=3)
+    e = omnee.estimate(**kw)
+    assert 0 < e.reference < 1e-55 and e.stderr > 0
+    assert abs(e.mean - e.reference) < 5 * e.stderr, e
+    assert omnee.estimate(dtype=np.float64, **kw)[:3] == e[:3]
+    f32 = omnee.estimate(dtype="float32", **kw)
+    assert f32.mean == 0.0 and f32.stderr == 0.0
+
+
+@pytest.mark.parametrize("reference", [False, True])
+def test_ctrl_c_interrupts_at_once_even_at_2_to_the_40_samples(reference):
+    """Ctrl-C (here `_thread.interrupt_main`, which trips the same flag as
+    SIGINT) raises KeyboardInterrupt within a second of the signal, where
+    the draws alone would take hours; the work stops behind it."""
+    import _thread
+    import threading
+    import time
+
+    timer = threading.Timer(0.3, _thread.interrupt_main)
+    start = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        omnee.estimate(x0=(0, 0, 1), x2=(0, 0, 0), sigma_s=0.5, sigma_t=0.6, samples=2**40,
+                       reference=reference, threads=1)
+    assert time.monotonic() - start < 1.3
+    # The next call runs normally.
+    e = omnee.estimate(x0=(0, 0, 1), x2=(0, 0, 0), sigma_s=0.5, sigma_t=0.6, samples=1000)
+    assert e.samples == 1000

@@ -112,11 +112,39 @@ def test_dtype_rule_and_shapes():
             p.eval(bad)
 
 
-def test_non_finite_input_gives_finite_or_nan_free_output():
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_values_outside_the_domain_are_value_errors_naming_them(dtype):
     p = omnee.Phase("hg:0.9")
-    u = np.array([np.nan, np.inf, -np.inf, -1.0, 2.0, 1.0, 0.0])
-    theta = p.sample(u)
-    assert np.all(np.isfinite(theta)) and np.all((theta >= 0) & (theta <= np.pi))
+    theta_methods = [p.eval, p.pdf, p.cdf, p.invert]
+    for method in theta_methods:
+        for bad, text in [(np.nan, "nan"), (-0.2, "-0.2"), (4.0, "4"), (np.inf, "inf")]:
+            with pytest.raises(ValueError, match=rf"^theta = {text}\d* is out of range; allowed: \[0, pi\]$"):
+                method(dtype(bad))
+        x = np.linspace(0, 3, 6).astype(dtype).reshape(2, 3)
+        x[1, 2] = np.nan
+        with pytest.raises(ValueError, match=r"^theta\[1, 2\] = nan is out of range"):
+            method(x)
+        ends = method(np.array([0.0, np.pi], dtype))
+        assert np.all(np.isfinite(ends))
+    assert np.isfinite(p.eval(np.float32(np.pi)))  # π rounded up in f32
+    for bad, text in [(np.nan, "nan"), (1.5, "1.5"), (-1.0, "-1")]:
+        with pytest.raises(ValueError, match=rf"^u = {text}\d* is out of range; allowed: \[0, 1\]$"):
+            p.sample(dtype(bad))
+    theta = p.sample(np.array([0.0, 1.0], dtype))
+    assert np.all((theta >= 0) & (theta <= np.pi))
+
+
+def test_phase_functions_compare_and_hash_by_value():
+    a, b = omnee.Phase("hg:0.9"), omnee.Phase(" hg:0.90")
+    assert a == b and hash(a) == hash(b) and not (a != b)
+    assert omnee.Phase("hg:0") == omnee.Phase("hg:-0") and hash(omnee.Phase("hg:0")) == hash(omnee.Phase("hg:-0"))
+    others = [omnee.Phase(s) for s in ALL + ["hg:0.91", "iso"]]
+    for i, x in enumerate(others):
+        for j, y in enumerate(others):
+            same = x.spec == y.spec
+            assert (x == y) == same, (x, y)
+    assert omnee.Phase("iso") != "iso" and len({a, b, omnee.Phase("iso")}) == 2
+    assert omnee.Phase("hg:0") != omnee.Phase("iso")  # equal values, different functions
 
 
 @pytest.mark.parametrize(
@@ -138,4 +166,4 @@ def test_repr_and_pickle():
     p = omnee.Phase("tthg:0.99,-0.44,0.96")
     assert repr(p) == 'omnee.Phase("tthg:0.99,-0.44,0.96")'
     q = pickle.loads(pickle.dumps(p))
-    assert q.spec == p.spec and q.mean_cosine() == p.mean_cosine()
+    assert q == p and q.spec == p.spec and q.mean_cosine() == p.mean_cosine()

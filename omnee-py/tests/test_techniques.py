@@ -65,8 +65,9 @@ def test_mis_draws_two_vertices():
     assert not companion[u[:, 3] >= 0.05].any()
     with pytest.raises(ValueError, match=r"shape \(10, 3\); allowed: \(\.\.\., 6\)"):
         m.sample(uniforms(10, 3))
-    with pytest.raises(NotImplementedError):
-        m.invert(np.zeros((1, 3)))
+    assert not hasattr(m, "invert") and not hasattr(omnee.Mis, "invert")
+    assert not hasattr(omnee.Technique, "invert")
+    assert all(hasattr(c, "invert") for c in (omnee.Omnee, omnee.Equiangular, omnee.Distance))
 
 
 @pytest.mark.parametrize("name", SINGLE + ["mis"])
@@ -191,6 +192,11 @@ def test_non_contiguous_and_big_endian_inputs_equal_their_copies():
         (lambda: omnee.Equiangular(X0, X2, "iso", slab=(1.0, -1.0)), r"z_max = -1 is out of range"),
         (lambda: omnee.Equiangular(X0, X2, "iso", normal=(0, 0, 0)), "normal"),
         (lambda: omnee.Distance(X0, X2, "iso", sigma_t=-1.0), r"sigma_t = -1 is out of range; allowed: \[0, inf\)"),
+        (lambda: omnee.Distance(X0, X2, "iso", sigma_t=0.0),
+         r"sigma_t = 0 is out of range; allowed: \(0, inf\) in a medium without bounds"),
+        (lambda: omnee.Distance(X0, X2, "iso", sigma_t=np.nan), r"sigma_t = NaN is out of range"),
+        (lambda: omnee.Omnee(X0, X2, "iso", theta_max=np.nan), r"theta_max = NaN is out of range; allowed: \(0, pi\]"),
+        (lambda: omnee.Equiangular(X0, X2, "iso", slab=(np.nan, 1.0)), r"z_min"),
         (lambda: omnee.Omnee(X0, X2, "hg:2"), r"g = 2 is out of range"),
     ],
 )
@@ -214,28 +220,73 @@ def test_bad_arrays():
 
 
 ANY_FLOAT = st.floats(allow_nan=True, allow_infinity=True, width=64)
+# Mostly valid numbers, now and then anything.
+UNIFORM = st.one_of(st.floats(0.0, 1.0), st.floats(0.0, 1.0), st.floats(0.0, 1.0), ANY_FLOAT)
+COORDINATE = st.one_of(st.floats(-1e6, 1e6), st.floats(-1e6, 1e6), ANY_FLOAT)
 
 
 @settings(max_examples=150, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 @given(
-    u=hnp.arrays(np.float64, st.tuples(st.integers(0, 6), st.just(6)), elements=ANY_FLOAT),
-    x=hnp.arrays(np.float64, st.tuples(st.integers(0, 6), st.just(3)), elements=ANY_FLOAT),
+    u=hnp.arrays(np.float64, st.tuples(st.integers(0, 4), st.just(6)), elements=UNIFORM),
+    x=hnp.arrays(np.float64, st.tuples(st.integers(0, 4), st.just(3)), elements=COORDINATE),
     f32=st.booleans(),
 )
-def test_adversarial_input_never_crashes_and_outputs_are_finite(u, x, f32):
+def test_adversarial_input_is_refused_by_name_or_gives_finite_outputs(u, x, f32):
+    """Uniform numbers outside [0, 1] (NaN included) and non-finite points
+    raise ValueError naming the first bad element; everything else gives
+    finite, non-negative outputs."""
     dtype = np.float32 if f32 else np.float64
     with np.errstate(over="ignore", invalid="ignore"):
         u, x = u.astype(dtype), x.astype(dtype)
     all_techniques = list(techniques("hg:0.99").values()) + [omnee.Mis(X0, X2, "hg:-0.9")]
     for t in all_techniques:
-        s = t.sample(u[:, : t.dimension])
-        assert np.all(np.isfinite(s.x1)) and np.all(np.isfinite(s.pdf)) and np.all(np.isfinite(s.weight))
-        assert np.all(s.pdf >= 0) and np.all(s.weight >= 0)
-        pdf = t.pdf(x)
-        assert np.all(np.isfinite(pdf)) and np.all(pdf >= 0)
-        if not isinstance(t, omnee.Mis):
-            inv = t.invert(x)
-            assert np.all(np.isfinite(inv.u))
+        uu = u[:, : t.dimension]
+        bad = ~((uu >= 0) & (uu <= 1))
+        if bad.any():
+            i, j = np.argwhere(bad)[0]
+            with pytest.raises(ValueError, match=rf"u\[{i}, {j}\] = .* is out of range; allowed: \[0, 1\]"):
+                t.sample(uu)
+        else:
+            s = t.sample(uu)
+            assert np.all(np.isfinite(s.x1)) and np.all(np.isfinite(s.pdf)) and np.all(np.isfinite(s.weight))
+            assert np.all(s.pdf >= 0) and np.all(s.weight >= 0)
+        calls = [t.pdf] + ([] if isinstance(t, omnee.Mis) else [lambda p: t.invert(p).u])
+        bad = ~np.isfinite(x)
+        for call in calls:
+            if bad.any():
+                i, j = np.argwhere(bad)[0]
+                with pytest.raises(ValueError, match=rf"x1\[{i}, {j}\] = .* allowed: finite coordinates"):
+                    call(x)
+            else:
+                out = call(x)
+                assert np.all(np.isfinite(out)) and np.all(out >= 0)
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_uniform_numbers_outside_the_unit_interval_are_value_errors(dtype):
+    t = techniques()["omnee"]
+    for bad, text in [(np.nan, "nan"), (1.5, "1.5"), (-0.0001, "-0.0001"), (np.inf, "inf")]:
+        u = np.full((2, 4, 3), 0.5, dtype)
+        u[1, 2, 1] = bad
+        with pytest.raises(ValueError, match=rf"^u\[1, 2, 1\] = {text}\d* is out of range; allowed: \[0, 1\]$"):
+            t.sample(u)
+    with pytest.raises(ValueError, match=r"^u\[2\] = nan is out of range"):
+        t.sample(np.array([0.5, 0.5, np.nan], dtype))
+    s = t.sample(np.array([[0.0, 0.0, 0.0], [1.0, 1.0, 1.0], [0.5, 0.5, 0.5]], dtype))
+    assert np.all(np.isfinite(s.pdf)) and np.all(np.isfinite(s.x1))
+
+
+def test_help_shows_the_real_defaults():
+    import inspect
+
+    for cls in (omnee.Omnee, omnee.Equiangular, omnee.Distance, omnee.Mis):
+        parameters = inspect.signature(cls).parameters
+        assert parameters["theta_max"].default == np.pi, cls
+        assert "Ellipsis" not in str(inspect.signature(cls))
+    parameters = inspect.signature(omnee.estimate).parameters
+    assert parameters["theta_max"].default == np.pi and parameters["samples"].default == 100_000
+    assert "Ellipsis" not in str(inspect.signature(omnee.estimate))
+    assert "out=None" in str(inspect.signature(omnee.Technique.sample))
 
 
 def test_accessors_and_repr():

@@ -1,6 +1,6 @@
 //! Images: layers of linear RGB (one per transport term) and their
 //! tone-mapped 8-bit sRGB. Reading and writing them as OpenEXR and PNG is
-//! [`crate::files`] (the `files` feature).
+//! `crate::files` (the `files` feature).
 
 /// An RGB float image with named layers; `""` is the main layer (the sum).
 #[derive(Clone, Debug, PartialEq)]

@@ -9,18 +9,23 @@
 //! I/O: progress and cancellation are callbacks.
 //!
 //! Where things are (docs/architecture.md draws it):
-//! - [`scenes`]: the scenes as sibling modules behind one enum
-//!   ([`scenes::Scene`]): [`scenes::slab`] (gathered by camera rays) and
-//!   [`scenes::underwater`] (light traced and splatted), each with its
-//!   scene file, its world in f32 and its transport terms;
+//! Features: `scenes` (on by default) for the scenes and their TOML files,
+//! `files` for OpenEXR and PNG; without either the library is the
+//! point-to-point engines, the render loop and the shared pieces (what the
+//! Python bindings link).
+//!
+//! - `scenes`: the scenes as sibling modules behind one enum
+//!   (`scenes::Scene`): `scenes::slab` (gathered by camera rays) and
+//!   `scenes::underwater` (light traced and splatted), each with its scene
+//!   file, its world in f32 and its transport terms;
 //! - [`render`]: the one render loop (passes, threads, a progress callback,
 //!   cancellation), which does not know what a work item computes;
 //! - [`point`]: the point-to-point problem and its estimate and samples
-//!   engines; the slab scene's probe is [`scenes::slab::probe`];
-//! - [`image`]: layers of linear RGB and tone mapping; [`files`] (feature
+//!   engines; the slab scene's probe is `scenes::slab::probe`;
+//! - [`image`]: layers of linear RGB and tone mapping; `files` (feature
 //!   `files`): OpenEXR and PNG, written atomically;
 //! - shared pieces: [`camera`] (the pinhole and the pixel measurement),
-//!   [`phase`] (phase specs and their tables), [`section`] (reading a TOML
+//!   [`phase`] (phase specs and their tables), `section` (reading a TOML
 //!   section field by field), [`range`] (range checks), [`parallel`] (the
 //!   pool and the chunks), [`technique`] (a technique as asked for and as
 //!   used), [`moments`], [`rng`], [`error`].
@@ -37,7 +42,9 @@ pub mod point;
 pub mod range;
 pub mod render;
 pub mod rng;
+#[cfg(feature = "scenes")]
 pub mod scenes;
+#[cfg(feature = "scenes")]
 pub mod section;
 pub mod technique;
 

@@ -29,9 +29,24 @@ pub fn map_items<T: Send>(
     cancel: &AtomicBool,
     f: impl Fn(u64) -> T + Sync,
 ) -> Option<Vec<T>> {
+    map_items_with(items, cancel, || (), |(), k| f(k))
+}
+
+/// [`map_items`] with scratch space: `f(&mut scratch, k)`, the scratch made
+/// by `init` once per piece of work a thread takes (rayon's `map_init`), so
+/// that items reuse their buffers. What an item computes must not depend on
+/// what the scratch held before.
+pub fn map_items_with<T: Send, S>(
+    items: u64,
+    cancel: &AtomicBool,
+    init: impl Fn() -> S + Sync + Send,
+    f: impl Fn(&mut S, u64) -> T + Sync,
+) -> Option<Vec<T>> {
     (0..items)
         .into_par_iter()
-        .map(|k| (!cancel.load(Ordering::Relaxed)).then(|| f(k)))
+        .map_init(init, |scratch, k| {
+            (!cancel.load(Ordering::Relaxed)).then(|| f(scratch, k))
+        })
         .collect()
 }
 

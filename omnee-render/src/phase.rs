@@ -22,6 +22,7 @@ use omnee_core::names::Named;
 use omnee_core::phase::{
     Deflection, InverseCdf, Phase, PhaseFunction, Spec, TableSampled, Tabulated,
 };
+use omnee_core::sampling::{Deflections, PhaseBatch};
 use std::fmt;
 
 /// A validated phase function spec: the text, and the table if it names one.
@@ -119,6 +120,15 @@ macro_rules! dispatch {
             Sampled::Table($p) => $call,
         }
     };
+}
+
+/// A batch of deflections by the variant's own sampler (Henyey–Greenstein's
+/// vectorised in f32).
+impl<F: Real> PhaseBatch<F> for Sampled<'_, F> {
+    #[inline]
+    fn sample_ratio_batch(&self, u0: &[F], out: Deflections<'_, F>) {
+        dispatch!(self, p => p.sample_ratio_batch(u0, out))
+    }
 }
 
 impl<F: Real> PhaseFunction<F> for Sampled<'_, F> {

@@ -10,7 +10,9 @@
 //! HG's sign convention, constants off, ...) and records which of these
 //! tests fail; `tests/mutants/README.md` has the table.
 
+mod bridge;
 mod chi2;
+mod connections;
 mod harness;
 mod lobe;
 mod properties;

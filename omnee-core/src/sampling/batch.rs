@@ -29,15 +29,17 @@ use crate::phase::HenyeyGreenstein;
 use crate::real::{ATAN_SQRT, SIN_ACUTE};
 use core::f32::consts::{FRAC_1_PI, FRAC_PI_2, TAU};
 
-/// The uniform numbers of a batch, one slice per coordinate.
+/// The uniform numbers of a batch, one slice per coordinate (f32 for
+/// [`Omnee::sample_batch`], either precision for
+/// [`Connections`](super::Connections)).
 #[derive(Clone, Copy, Debug)]
-pub struct Uniforms<'a> {
+pub struct Uniforms<'a, F = f32> {
     /// `u0`, which draws θ.
-    pub u0: &'a [f32],
+    pub u0: &'a [F],
     /// `u1 = β/θ`.
-    pub u1: &'a [f32],
+    pub u1: &'a [F],
     /// `u2 = φ/2π`.
-    pub u2: &'a [f32],
+    pub u2: &'a [F],
 }
 
 /// The vertices of a batch: `x1` by coordinate, its density and weight.
@@ -180,7 +182,7 @@ impl Omnee<f32, HenyeyGreenstein<f32>> {
 /// in the comparison form that SSE2 does in one `maxps` and one `minps`
 /// (`f32::clamp` would keep NaN, `f32::max` costs five instructions).
 #[inline(always)]
-fn clamp_unit(u: f32) -> f32 {
+pub(super) fn clamp_unit(u: f32) -> f32 {
     let u = if u >= 0.0 { u } else { 0.0 };
     if u <= 1.0 { u } else { 1.0 }
 }

@@ -26,6 +26,7 @@
 //! [`crate::method`] makes draws for a technique chosen by name.
 
 mod batch;
+mod connections;
 mod directions;
 mod distance;
 mod draw;
@@ -33,6 +34,9 @@ mod equiangular;
 mod omnee;
 
 pub use batch::{Uniforms, Vertices};
+pub use connections::{
+    CHUNK, Connections, Deflections, PhaseBatch, Points, PointsMut, SampleArrays,
+};
 pub use directions::Directions;
 pub use distance::Distance;
 pub use draw::Draw;

@@ -18,12 +18,29 @@ densities and weights out, vectorised over arrays:
 ((4, 3), (4,), True)
 >>> u = t.invert(s.x1).u            # back to the uniform numbers
 
-Precision follows the input: float32 arrays are computed in f32 (the
-renderer's precision) and answered in float32; float64, integer and bool
-arrays, Python numbers and lists in f64. The GIL is released while the Rust
-core samples. Bad parameters raise ``ValueError`` naming the field and its
-allowed range; arrays of a wrong shape ``ValueError``, of a wrong dtype
-``TypeError``.
+One connection per row: ``x0`` and ``x2`` (and ``normal``) of shape
+``(N, 3)`` (or ``(3,)``, shared by all rows); ``u`` of shape ``(N, 3)`` draws
+one vertex per row, bit for bit what ``Omnee(x0[i], x2[i], phase)`` draws from
+``u[i]``:
+
+>>> rng = np.random.default_rng(2)
+>>> x2 = rng.random((1000, 3)) + [0, 0, 2]       # 1000 shading points
+>>> rows = omnee.Omnee(x0=[0, 0, 0], x2=x2, phase=phase)
+>>> s = rows.sample(rng.random((1000, 3)))
+>>> s.x1.shape, rows.rows
+((1000, 3), 1000)
+
+``out=`` takes the output arrays to fill (C-contiguous, the result's dtype
+and shapes). Precision follows the input: float32 arrays are computed in
+f32 (the renderer's precision) and answered in float32; float64, integer
+and bool arrays, Python numbers and lists in f64. C-contiguous float32 and
+float64 arrays are read in place (per-row end points too, at every call:
+a technique sees later writes to them), and the GIL is released while the
+Rust core samples (on all cores for long arrays). Bad parameters raise
+``ValueError`` naming the field and its allowed range (uniform numbers
+outside [0, 1], deflections outside [0, π], NaN included); arrays of a wrong
+shape ``ValueError``, of a wrong dtype ``TypeError``. Techniques and phase
+functions compare by value and pickle, so they travel to worker processes.
 """
 
 from typing import NamedTuple, Optional

@@ -2,23 +2,33 @@
 
 Array arguments follow one dtype rule: float32 arrays are computed in f32 and
 answered in float32; float64, integer and bool arrays, Python numbers and
-sequences in f64 (float64). Any other dtype raises TypeError. A 0-d result is
-returned as a numpy scalar.
+sequences in f64 (float64). Any other dtype raises TypeError. A C-contiguous
+float32 or float64 array is read in place (no copy) while the GIL is
+released: do not write to it from another thread during the call. A 0-d
+result is returned as a numpy scalar.
 """
 
-from typing import Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Optional, Sequence, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
+from typing_extensions import disjoint_base
 
 from . import Estimate, Inversion, Samples
 
-ArrayLike = npt.ArrayLike
-Point = Union[Sequence[float], npt.NDArray[np.floating]]
-PhaseLike = Union["Phase", str]
+__all__ = ["Phase", "Technique", "Omnee", "Equiangular", "Distance", "Mis", "estimate", "__version__"]
+
+_ArrayLike = npt.ArrayLike
+_FloatArray = npt.NDArray[np.floating[Any]]
+_BoolArray = npt.NDArray[np.bool_]
+_Point = Union[Sequence[float], _FloatArray]
+"""A point ``(3,)``; for the techniques' ``x0``, ``x2``, ``normal`` also
+``(N, 3)``, one point per row."""
+_PhaseLike = Union["Phase", str]
 
 __version__: str
 
+@final
 class Phase:
     """A phase function p(θ) of the deflection θ ∈ [0, π] between the incoming
     and the outgoing propagation direction (θ = 0: straight on), normalised
@@ -33,46 +43,58 @@ class Phase:
     diameter ∈ (0, 50] µm; ``rayleigh`` ``p = 3/(16π) (1 + cos²θ)``;
     ``table:FILE.csv`` lines ``angle_deg,value``.
 
-    Raises ValueError naming the parameter and its allowed range.
+    Compared and hashed by value (the kind and its parameters). Raises
+    ValueError naming the parameter and its allowed range; the methods raise
+    ValueError for θ outside [0, π] or u outside [0, 1], NaN included.
     """
 
-    def __init__(self, spec: str) -> None: ...
+    def __new__(cls, spec: str) -> Phase: ...
+    def __getnewargs__(self) -> Tuple[str]: ...
     @property
     def spec(self) -> str:
         """The spec string."""
-    def eval(self, theta: ArrayLike) -> np.ndarray:
-        """p(θ) per steradian, elementwise."""
-    def sample(self, u: ArrayLike) -> np.ndarray:
-        """θ = P⁻¹(u), the deflection drawn from u ∈ [0, 1) (clamped to [0, 1],
-        NaN to 0); its solid-angle density is ``pdf(θ)``."""
-    def pdf(self, theta: ArrayLike) -> np.ndarray:
+    def eval(self, theta: _ArrayLike) -> Any:
+        """p(θ) per steradian, elementwise, θ ∈ [0, π]."""
+    def sample(self, u: _ArrayLike) -> Any:
+        """θ = P⁻¹(u), the deflection drawn from u ∈ [0, 1]; its
+        solid-angle density is ``pdf(θ)``."""
+    def pdf(self, theta: _ArrayLike) -> Any:
         """The solid-angle density of ``sample`` at θ; equals ``eval(θ)``."""
-    def cdf(self, theta: ArrayLike) -> np.ndarray:
+    def cdf(self, theta: _ArrayLike) -> Any:
         """``P(Θ ≤ θ) = 2π ∫₀^θ p(θ') sin θ' dθ'``."""
-    def invert(self, theta: ArrayLike) -> np.ndarray:
+    def invert(self, theta: _ArrayLike) -> Any:
         """The u with ``sample(u) = θ`` (``cdf(θ)`` for inverse-CDF samplers).
         Raises ValueError for the mixtures (tthg, mie), which pick a lobe with u."""
     def mean_cosine(self) -> float:
         """``g = ⟨cos θ⟩ = 2π ∫₀^π p(θ) cos θ sin θ dθ``."""
     def backscatter_fraction(self) -> float:
         """``B = P(Θ > π/2)``."""
+    def __eq__(self, other: object, /) -> bool: ...
+    def __hash__(self) -> int: ...
 
+@disjoint_base
 class Technique:
     """A technique placing the scattering vertex ``x1`` of the once-more
     scattered connection ``x0 → x1 → x2``, restricted to deflections
     θ < θmax; every technique estimates the integral of the kernel
     ``k(x1) = p(θ)/(d1² d2²)`` times the factors ``f_c`` it does not sample.
 
+    One connection (``x0``, ``x2`` of shape ``(3,)``), or one per row
+    (``x0``, ``x2``, ``normal`` of shape ``(N, 3)``, or ``(3,)`` for a point
+    shared by every row): then the first axis of ``u`` and ``x1`` is the
+    row, ``(N, ..., 3)``. Techniques compare and hash by value and pickle
+    (they travel to worker processes).
+
     The base class of Omnee, Equiangular, Distance and Mis; not constructed
     directly.
     """
 
     @property
-    def x0(self) -> Tuple[float, float, float]:
-        """The light-side end point."""
+    def x0(self) -> Union[Tuple[float, float, float], _FloatArray]:
+        """The light-side end point(s)."""
     @property
-    def x2(self) -> Tuple[float, float, float]:
-        """The receiver-side end point."""
+    def x2(self) -> Union[Tuple[float, float, float], _FloatArray]:
+        """The receiver-side end point(s)."""
     @property
     def theta_max(self) -> float:
         """The restriction θ < θmax, θmax ∈ (0, π]."""
@@ -82,28 +104,44 @@ class Technique:
     @property
     def dimension(self) -> int:
         """Uniform numbers per draw: 3, or 6 for Mis."""
-    def sample(self, u: ArrayLike) -> Samples:
-        """``x1`` from uniform numbers ``u`` of shape ``(..., 3)`` (``(..., 6)``
-        for Mis): ``Samples(x1, pdf, weight, valid)``, with
-        ``weight = k(x1)/pdf(x1)`` in closed form."""
-    def pdf(self, x1: ArrayLike) -> np.ndarray:
+    @property
+    def rows(self) -> Optional[int]:
+        """The number of connections given per row, or None for one."""
+    def sample(
+        self,
+        u: _ArrayLike,
+        out: Optional[Tuple[_FloatArray, _FloatArray, _FloatArray, _BoolArray]] = None,
+    ) -> Samples:
+        """``x1`` from uniform numbers ``u`` in [0, 1] of shape ``(..., 3)``
+        (``(..., 6)`` for Mis): ``Samples(x1, pdf, weight, valid)``, with
+        ``weight = k(x1)/pdf(x1)`` in closed form; written into the four
+        arrays of ``out`` (C-contiguous, the result's dtype and shapes) if
+        given."""
+    def pdf(self, x1: _ArrayLike, out: Optional[_FloatArray] = None) -> Any:
         """The volume density (m⁻³) of ``sample`` at points of shape
         ``(..., 3)``; 0 where it never samples. For Mis the combined density
         the vertices come with."""
-    def invert(self, x1: ArrayLike) -> Inversion:
-        """The uniform numbers ``sample`` maps to ``x1`` (shape ``(..., 3)``):
-        ``Inversion(u, valid)``. Raises NotImplementedError for Mis."""
+    def __eq__(self, other: object, /) -> bool: ...
+    def __hash__(self) -> int: ...
+    def __getnewargs_ex__(self) -> Tuple[Tuple[Any, ...], Dict[str, Any]]: ...
 
+@final
 class Omnee(Technique):
     """OMNEE: θ = P⁻¹(u0) from the phase function, ``β = u1 θ``,
     ``φ = 2π u2`` on the circumcircle arc through x0 and x2;
     ``pdf(x1) = p(θ) (sin θ/θ) s / (d1² d2²)``, ``weight = θ/(s sin θ)``
     with ``s = |x2 − x0|``."""
 
-    def __init__(
-        self, x0: Point, x2: Point, phase: PhaseLike, theta_max: float = ...
-    ) -> None: ...
+    def __new__(
+        cls, x0: _Point, x2: _Point, phase: _PhaseLike, theta_max: float = 3.141592653589793
+    ) -> Omnee: ...
+    def invert(
+        self, x1: _ArrayLike, out: Optional[Tuple[_FloatArray, _BoolArray]] = None
+    ) -> Inversion:
+        """The uniform numbers ``sample`` maps to ``x1`` (shape ``(..., 3)``):
+        ``Inversion(u, valid)``."""
 
+@final
 class Equiangular(Technique):
     """Equiangular sampling (Kulla & Fajardo 2012): a direction ω from x2
     (uniform on the sphere, or cosine-weighted about ``normal``) from
@@ -111,63 +149,77 @@ class Equiangular(Technique):
     medium segment (all of space, or the ``slab`` (z_min, z_max)):
     ``pdf(x1) = pdf_ω(ω) c / (d1² d2²)``, ``weight = p(θ)/(pdf_ω(ω) c)``."""
 
-    def __init__(
-        self,
-        x0: Point,
-        x2: Point,
-        phase: PhaseLike,
-        theta_max: float = ...,
-        normal: Optional[Point] = None,
+    def __new__(
+        cls,
+        x0: _Point,
+        x2: _Point,
+        phase: _PhaseLike,
+        theta_max: float = 3.141592653589793,
+        normal: Optional[_Point] = None,
         slab: Optional[Tuple[float, float]] = None,
-    ) -> None: ...
+    ) -> Equiangular: ...
+    def invert(
+        self, x1: _ArrayLike, out: Optional[Tuple[_FloatArray, _BoolArray]] = None
+    ) -> Inversion:
+        """The uniform numbers ``sample`` maps to ``x1`` (shape ``(..., 3)``):
+        ``Inversion(u, valid)``."""
 
+@final
 class Distance(Technique):
     """Distance sampling: a direction ω as for Equiangular, then the
     exponential free-flight distance with coefficient ``sigma_t`` on the
     medium segment [t_a, t_b]: ``pdf(t) = σ e^{−σ (t − t_a)} / (1 − e^{−σL})``,
-    ``pdf(x1) = pdf_ω(ω) pdf(t) / t²``."""
+    ``pdf(x1) = pdf_ω(ω) pdf(t) / t²``; ``sigma_t`` ∈ (0, ∞) without a slab,
+    [0, ∞) with one."""
 
-    def __init__(
-        self,
-        x0: Point,
-        x2: Point,
-        phase: PhaseLike,
+    def __new__(
+        cls,
+        x0: _Point,
+        x2: _Point,
+        phase: _PhaseLike,
         sigma_t: float,
-        theta_max: float = ...,
-        normal: Optional[Point] = None,
+        theta_max: float = 3.141592653589793,
+        normal: Optional[_Point] = None,
         slab: Optional[Tuple[float, float]] = None,
-    ) -> None: ...
+    ) -> Distance: ...
+    def invert(
+        self, x1: _ArrayLike, out: Optional[Tuple[_FloatArray, _BoolArray]] = None
+    ) -> Inversion:
+        """The uniform numbers ``sample`` maps to ``x1`` (shape ``(..., 3)``):
+        ``Inversion(u, valid)``."""
 
+@final
 class Mis(Technique):
     """MIS as the CLI's ``mis``: OMNEE's vertex from ``u[0:3]`` always and,
     when ``u3 < c = 0.05``, an equiangular companion from ``(u3/c, u4, u5)``
     kept behind the cone θ ≥ 3π/4, balance heuristic there
     (``pdf = p_O + c p_E``, ``w = p/(p_O + c p_E)``), OMNEE alone in front of
-    it. ``sample`` returns two vertices per draw (shape ``(..., 2, 3)``)."""
+    it. ``sample`` returns two vertices per draw (shape ``(..., 2, 3)``).
+    No ``invert``: OMNEE and the companion can draw the same point."""
 
-    def __init__(
-        self,
-        x0: Point,
-        x2: Point,
-        phase: PhaseLike,
-        theta_max: float = ...,
-        normal: Optional[Point] = None,
+    def __new__(
+        cls,
+        x0: _Point,
+        x2: _Point,
+        phase: _PhaseLike,
+        theta_max: float = 3.141592653589793,
+        normal: Optional[_Point] = None,
         slab: Optional[Tuple[float, float]] = None,
-    ) -> None: ...
+    ) -> Mis: ...
 
 def estimate(
     *,
-    x0: Point,
-    x2: Point,
+    x0: _Point,
+    x2: _Point,
     sigma_s: float,
     sigma_t: float,
-    phase: Optional[PhaseLike] = None,
+    phase: Optional[_PhaseLike] = None,
     technique: str = "auto",
     samples: int = 100000,
     seed: int = 1,
-    theta_max: float = ...,
-    receiver_normal: Optional[Point] = None,
-    dtype: npt.DTypeLike = None,
+    theta_max: float = 3.141592653589793,
+    receiver_normal: Optional[_Point] = None,
+    dtype: Optional[npt.DTypeLike] = None,
     reference: bool = True,
     threads: int = 0,
 ) -> Estimate:
@@ -176,5 +228,6 @@ def estimate(
     ``I = ∫ σs p(θ) e^{−σt (d1 + d2)} [cos θ2] / (d1² d2²) dx1`` over θ < θmax,
     estimated exactly as ``omnee estimate --json`` with the same arguments
     (``technique`` omnee, equiangular, distance, mis or auto; ``dtype``
-    float32 (default) or float64; ``phase`` default ``iso``), with the f64
-    quadrature reference when ``reference`` is True."""
+    float64 (default) or float32; ``phase`` default ``iso``; ``threads`` 0:
+    one per core), with the f64 quadrature reference when ``reference`` is
+    True. Ctrl-C interrupts it between chunks of draws."""

@@ -13,7 +13,7 @@ pub mod budget;
 
 use crate::error::{RenderError, Result};
 use crate::image::Layers;
-use crate::parallel::map_items;
+use crate::parallel::map_items_with;
 use budget::Budget;
 use glam::Vec3;
 use omnee_core::term::Term;
@@ -32,6 +32,9 @@ pub trait Integrator: Sync {
     type Stats: Counters;
     /// What one item gives back for [`Integrator::add`].
     type Item: Send;
+    /// Buffers an item may reuse from the item before it on the same
+    /// thread (`()` for none); an item's result never depends on them.
+    type Scratch: Default;
 
     /// The image size in pixels.
     fn size(&self) -> (u32, u32);
@@ -48,8 +51,15 @@ pub trait Integrator: Sync {
     fn per_pass(&self) -> f64;
 
     /// Item `item` of pass `pass` with the random streams of `seed`,
-    /// counting its work in `stats`.
-    fn item(&self, seed: u64, pass: u32, item: u64, stats: &mut Self::Stats) -> Self::Item;
+    /// counting its work in `stats`, with the thread's `scratch` buffers.
+    fn item(
+        &self,
+        seed: u64,
+        pass: u32,
+        item: u64,
+        stats: &mut Self::Stats,
+        scratch: &mut Self::Scratch,
+    ) -> Self::Item;
 
     /// Adds an item's result to the sums.
     fn add(&self, item: &Self::Item, sums: &mut Sums);
@@ -175,9 +185,9 @@ pub fn render<I: Integrator>(
     };
     let done = std::sync::atomic::AtomicU64::new(0);
     loop {
-        let results = map_items(items, cancel, |k| {
+        let results = map_items_with(items, cancel, I::Scratch::default, |scratch, k| {
             let mut st = I::Stats::default();
-            let out = scene.item(options.seed, passes, k, &mut st);
+            let out = scene.item(options.seed, passes, k, &mut st, scratch);
             let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
             report(passes, n);
             (out, st)
@@ -257,6 +267,7 @@ mod tests {
     impl Integrator for Noise {
         type Stats = Count;
         type Item = (u32, Vec<f32>);
+        type Scratch = ();
         fn size(&self) -> (u32, u32) {
             (5, 4)
         }
@@ -269,7 +280,14 @@ mod tests {
         fn per_pass(&self) -> f64 {
             1.0
         }
-        fn item(&self, seed: u64, pass: u32, item: u64, stats: &mut Count) -> (u32, Vec<f32>) {
+        fn item(
+            &self,
+            seed: u64,
+            pass: u32,
+            item: u64,
+            stats: &mut Count,
+            (): &mut (),
+        ) -> (u32, Vec<f32>) {
             stats.0 += 5;
             let row = (0..5)
                 .map(|x| Rng::stream(seed, item * 5 + x, pass as u64).uniform())

@@ -8,7 +8,10 @@ use super::{Light, Roulette, SlabWorld};
 use crate::rng::Rng;
 use glam::Vec3;
 use omnee_core::method::Method;
-use omnee_core::sampling::{Connection, Directions, Sample};
+use omnee_core::sampling::{
+    Connection, Connections, Directions, Omnee, Points, PointsMut, Sample, SampleArrays, Technique,
+    Uniforms,
+};
 
 /// How the once-more term is estimated.
 #[derive(Clone, Copy, Debug)]
@@ -63,6 +66,122 @@ impl Light {
     }
 }
 
+/// A once-more connection whose OMNEE vertex is still to be drawn: the
+/// light point, the connection `x0 → p` and the three uniform numbers of
+/// its vertex, so that a renderer can draw the vertices of many
+/// connections in one call (`omnee_core::sampling::Connections`) and
+/// finish each with [`SlabWorld::once_more_finish`].
+#[derive(Clone, Copy, Debug)]
+pub struct PendingVertex {
+    light: LightVertex,
+    /// The connection from the light point to the receiver.
+    pub connection: Connection<f32>,
+    /// The vertex's uniform numbers.
+    pub u: [f32; 3],
+}
+
+/// Where [`SlabWorld::once_more_start`] left a once-more estimate.
+#[derive(Clone, Copy, Debug)]
+pub enum OnceMoreStart {
+    /// The estimate, complete (no connection, or a technique other than
+    /// OMNEE, drawn and evaluated at once).
+    Done(f32),
+    /// OMNEE's vertex is to be drawn.
+    Vertex(PendingVertex),
+}
+
+/// OMNEE's vertices for many pending connections, drawn in one call of the
+/// core's batch over connections: the connections' end points, numbers and
+/// vertices by coordinate, reused from one batch to the next.
+#[derive(Clone, Debug, Default)]
+pub struct VertexBatch {
+    /// `x0`, `x2` and the three uniform numbers, by coordinate.
+    inputs: [Vec<f32>; 9],
+    /// `x1`, the density and the weight by lane.
+    x1: [Vec<f32>; 3],
+    pdf: Vec<f32>,
+    weight: Vec<f32>,
+    valid: Vec<bool>,
+}
+
+impl VertexBatch {
+    /// Draws OMNEE's vertex of every connection of `pending` (all with θmax
+    /// `theta_max`) with `world`'s phase function, each bit for bit the
+    /// vertex [`SlabWorld::once_more`] draws,
+    /// `Omnee::new(connection, phase).sample(u)`; lane `i` is then
+    /// [`VertexBatch::sample`]`(i)`.
+    pub fn draw(&mut self, world: &SlabWorld<'_>, pending: &[PendingVertex], theta_max: f32) {
+        let n = pending.len();
+        for column in self.inputs.iter_mut().chain(&mut self.x1) {
+            column.clear();
+        }
+        for v in pending {
+            let (a, b) = (v.connection.axis.x0, v.connection.axis.x2);
+            let lane = [a.x, a.y, a.z, b.x, b.y, b.z, v.u[0], v.u[1], v.u[2]];
+            for (column, value) in self.inputs.iter_mut().zip(lane) {
+                column.push(value);
+            }
+        }
+        for column in &mut self.x1 {
+            column.resize(n, 0.0);
+        }
+        for column in [&mut self.pdf, &mut self.weight] {
+            column.clear();
+            column.resize(n, 0.0);
+        }
+        self.valid.clear();
+        self.valid.resize(n, false);
+        let [x0x, x0y, x0z, x2x, x2y, x2z, u0, u1, u2] = &self.inputs;
+        let [x, y, z] = &mut self.x1;
+        let drawn = Connections::new(
+            Points {
+                x: x0x,
+                y: x0y,
+                z: x0z,
+            },
+            Points {
+                x: x2x,
+                y: x2y,
+                z: x2z,
+            },
+            theta_max,
+        )
+        .and_then(|c| {
+            c.sample_omnee(
+                world.sampler(),
+                Uniforms { u0, u1, u2 },
+                SampleArrays {
+                    x1: PointsMut { x, y, z },
+                    pdf: &mut self.pdf,
+                    weight: &mut self.weight,
+                    valid: &mut self.valid,
+                },
+            )
+        });
+        if drawn.is_err() {
+            // The arrays are made to fit and θmax is the connections' own:
+            // draw them one by one all the same.
+            for (i, v) in pending.iter().enumerate() {
+                let s = Omnee::new(v.connection, world.sampler()).sample(v.u);
+                self.valid[i] = s.is_some();
+                if let Some(s) = s {
+                    (self.x1[0][i], self.x1[1][i], self.x1[2][i]) = (s.x1.x, s.x1.y, s.x1.z);
+                    (self.pdf[i], self.weight[i]) = (s.pdf, s.weight);
+                }
+            }
+        }
+    }
+
+    /// Lane `i`'s vertex, if it has one.
+    pub fn sample(&self, i: usize) -> Option<Sample<f32>> {
+        self.valid[i].then(|| Sample {
+            x1: Vec3::new(self.x1[0][i], self.x1[1][i], self.x1[2][i]),
+            pdf: self.pdf[i],
+            weight: self.weight[i],
+        })
+    }
+}
+
 impl SlabWorld<'_> {
     /// One-sample estimate of the once-more scattered irradiance at `p`
     /// (normal `n`): light → `x1` in the slab → `p`, the sum of
@@ -76,37 +195,87 @@ impl SlabWorld<'_> {
         roulette: Roulette,
         stats: &mut SlabStats,
     ) -> f32 {
+        match self.once_more_start(p, n, how, rng, roulette, stats) {
+            OnceMoreStart::Done(e) => e,
+            OnceMoreStart::Vertex(v) => {
+                let sample = Omnee::new(v.connection, self.sampler()).sample(v.u);
+                self.once_more_finish(&v, (p, n), sample, rng, roulette, stats)
+            }
+        }
+    }
+
+    /// [`once_more`](Self::once_more) up to OMNEE's vertex: the light
+    /// point, the connection and the vertex's three numbers, drawn from
+    /// `rng` in the order `once_more` draws them. Other techniques are
+    /// drawn and evaluated here.
+    pub fn once_more_start(
+        &self,
+        p: Vec3,
+        n: Vec3,
+        how: OnceMore,
+        rng: &mut Rng,
+        roulette: Roulette,
+        stats: &mut SlabStats,
+    ) -> OnceMoreStart {
         let Some(light) = self.light.once_more_origin(p, rng) else {
-            return 0.0;
+            return OnceMoreStart::Done(0.0);
         };
         stats.connections += 1;
         if !self.slab.may_reach(light.x0, p, how.theta_max) {
             stats.skipped_unreachable += 1;
-            return 0.0;
+            return OnceMoreStart::Done(0.0);
         }
         let Ok(connection) = Connection::new(light.x0, p, how.theta_max) else {
-            return 0.0;
+            return OnceMoreStart::Done(0.0);
         };
+        if how.method == Method::Omnee {
+            let u = [rng.uniform(), rng.uniform(), rng.uniform()];
+            return OnceMoreStart::Vertex(PendingVertex {
+                light,
+                connection,
+                u,
+            });
+        }
         // Ray methods draw cosine-weighted directions about the normal.
-        let setup = if how.method == Method::Omnee {
-            self.setup
-        } else {
-            let Ok(directions) = Directions::cosine(n) else {
-                return 0.0;
-            };
-            self.setup.with_directions(directions)
+        let Ok(directions) = Directions::cosine(n) else {
+            return OnceMoreStart::Done(0.0);
         };
-        let [first, companion] = setup
+        let [first, companion] = self
+            .setup
+            .with_directions(directions)
             .draw(how.method, connection, || rng.uniform())
             .vertices;
         if first.is_none() {
             stats.no_vertex += 1;
         }
-        [first, companion]
-            .into_iter()
-            .flatten()
-            .map(|s| self.once_more_vertex(light, (p, n), s, rng, roulette, stats))
-            .sum()
+        OnceMoreStart::Done(
+            [first, companion]
+                .into_iter()
+                .flatten()
+                .map(|s| self.once_more_vertex(light, (p, n), s, rng, roulette, stats))
+                .sum(),
+        )
+    }
+
+    /// The once-more estimate from OMNEE's `sample` for the pending
+    /// connection `v` to the receiver `(p, n)` (its roulette drawing from
+    /// `rng`, which continues the one `once_more_start` drew from).
+    pub fn once_more_finish(
+        &self,
+        v: &PendingVertex,
+        (p, n): (Vec3, Vec3),
+        sample: Option<Sample<f32>>,
+        rng: &mut Rng,
+        roulette: Roulette,
+        stats: &mut SlabStats,
+    ) -> f32 {
+        match sample {
+            Some(s) => self.once_more_vertex(v.light, (p, n), s, rng, roulette, stats),
+            None => {
+                stats.no_vertex += 1;
+                0.0
+            }
+        }
     }
 
     /// The contribution `f_c · weight` of one vertex `x1` of a once-more

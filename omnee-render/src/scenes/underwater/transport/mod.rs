@@ -360,6 +360,7 @@ impl UnderwaterWorld<'_> {
 impl Integrator for UnderwaterWorld<'_> {
     type Stats = UnderwaterStats;
     type Item = Vec<Splat>;
+    type Scratch = ();
 
     fn size(&self) -> (u32, u32) {
         (self.camera.width, self.camera.height)
@@ -377,7 +378,14 @@ impl Integrator for UnderwaterWorld<'_> {
         self.paths_per_pass() as f64
     }
 
-    fn item(&self, seed: u64, pass: u32, chunk: u64, stats: &mut UnderwaterStats) -> Vec<Splat> {
+    fn item(
+        &self,
+        seed: u64,
+        pass: u32,
+        chunk: u64,
+        stats: &mut UnderwaterStats,
+        (): &mut (),
+    ) -> Vec<Splat> {
         self.trace_chunk(seed, pass, chunk, stats)
     }
 

@@ -1,0 +1,177 @@
+use super::*;
+use crate::medium::Homogeneous;
+use crate::phase::{HenyeyGreenstein, Isotropic};
+use crate::reference::PointToPoint;
+use crate::sampling::{Connection, Technique};
+use glam::{DVec3, Vec3};
+
+#[test]
+fn ln_factorial_table_is_the_running_sum_of_logs() {
+    let mut sum = 0.0f64;
+    for (k, &v) in LN_FACTORIAL.iter().enumerate() {
+        if k >= 2 {
+            sum += libm::log(k as f64);
+        }
+        assert!((v - sum).abs() <= 1e-14 * sum.max(1.0), "{k}: {v} vs {sum}");
+    }
+}
+
+#[test]
+fn closed_form_of_one_vertex_is_the_quadrature() {
+    for tau in [0.1, 1.0, 10.0] {
+        let c = Connection::new(DVec3::ZERO, DVec3::Z * 2.0, core::f64::consts::PI).unwrap();
+        let m = Homogeneous::from_extinction(0.35 * tau, tau / 2.0).unwrap();
+        let q = PointToPoint::new(c, m, None).unwrap().integral(&Isotropic);
+        let i1 = isotropic_transfer(1, 2.0, 0.35 * tau, tau / 2.0, REFERENCE_BUDGET).unwrap();
+        assert!((i1 / q - 1.0).abs() < 1e-9, "τ {tau}: {i1:e} vs {q:e}");
+    }
+}
+
+#[test]
+fn closed_form_rejects_bad_input_and_keeps_its_budget() {
+    assert_eq!(
+        isotropic_transfer(0, 1.0, 1.0, 1.0, 10)
+            .unwrap_err()
+            .field(),
+        "k"
+    );
+    assert_eq!(
+        isotropic_transfer(33, 1.0, 1.0, 1.0, 10)
+            .unwrap_err()
+            .field(),
+        "k"
+    );
+    assert_eq!(
+        isotropic_transfer(2, 0.0, 1.0, 1.0, 10)
+            .unwrap_err()
+            .field(),
+        "s"
+    );
+    assert_eq!(
+        isotropic_transfer(2, 1.0, f64::NAN, 1.0, 10)
+            .unwrap_err()
+            .field(),
+        "sigma_s"
+    );
+    assert_eq!(
+        isotropic_transfer(2, 1.0, 1.0, 0.0, 10)
+            .unwrap_err()
+            .field(),
+        "sigma_t"
+    );
+    assert!(
+        isotropic_transfer(1, 1.0, 1.0, 0.0, REFERENCE_BUDGET)
+            .unwrap()
+            .is_finite()
+    );
+    assert_eq!(
+        isotropic_transfer(3, 1.0, 1.0, 1.0, 20)
+            .unwrap_err()
+            .field(),
+        "budget"
+    );
+    assert_eq!(isotropic_transfer(3, 1.0, 0.0, 1.0, 20), Ok(0.0));
+}
+
+#[test]
+fn sampled_density_is_the_density_at_the_points() {
+    let b = Bridge::new(
+        DVec3::new(0.1, 0.2, 0.3),
+        DVec3::new(1.0, -1.0, 2.0),
+        HenyeyGreenstein::new(0.7).unwrap(),
+    )
+    .unwrap();
+    let mut x = [DVec3::ZERO; 4];
+    let u = [
+        [0.3, 0.6, 0.2],
+        [0.8, 0.1, 0.5],
+        [0.45, 0.9, 0.7],
+        [0.05, 0.33, 0.4],
+    ];
+    for k in 1..=4 {
+        let s = b.sample(&u[..k], &mut x).unwrap();
+        assert!((b.pdf(&x[..k]) / s.pdf - 1.0).abs() < 1e-10);
+        // weight = kernel / pdf, and the length is the sum of the edges.
+        assert!((b.kernel(&x[..k]) / s.pdf / s.weight - 1.0).abs() < 1e-10);
+        let mut prev: DVec3 = b.axis.x0;
+        let mut length = 0.0f64;
+        for &v in x[..k].iter().chain([b.axis.x2].iter()) {
+            length += (v - prev).length();
+            prev = v;
+        }
+        assert!(
+            (length / s.length - 1.0).abs() < 1e-12,
+            "{length} vs {}",
+            s.length
+        );
+    }
+}
+
+#[test]
+fn bad_slices_give_no_sample() {
+    let b = Bridge::<f32, _>::new(Vec3::ZERO, Vec3::Z, Isotropic).unwrap();
+    let mut x = [Vec3::ZERO; 2];
+    assert!(b.sample(&[], &mut x).is_none());
+    assert!(b.sample(&[[0.5; 3]; 3], &mut x).is_none());
+    assert!(b.sample(&[[0.5; 3]; 2], &mut x).is_some());
+    assert!(b.sample(&[[0.5, 0.5, 0.0]], &mut x).is_none()); // d_1 = 0
+    assert_eq!(b.pdf(&[]), 0.0);
+    assert_eq!(b.pdf(&[Vec3::ZERO]), 0.0);
+    assert!(Bridge::<f32, _>::new(Vec3::ZERO, Vec3::ZERO, Isotropic).is_err());
+}
+
+#[test]
+fn one_vertex_technique_is_the_bridge_of_one() {
+    let b = Bridge::new(
+        DVec3::ZERO,
+        DVec3::new(0.0, 1.0, 1.0),
+        HenyeyGreenstein::new(0.4).unwrap(),
+    )
+    .unwrap();
+    let u = [0.3, 0.7, 0.4];
+    let t = Technique::sample(&b, u).unwrap();
+    let mut x = [DVec3::ZERO];
+    let s = b.sample(&[u], &mut x).unwrap();
+    assert_eq!((t.x1, t.pdf, t.weight), (x[0], s.pdf, s.weight));
+    assert!((Technique::pdf(&b, t.x1) / t.pdf - 1.0).abs() < 1e-12);
+    let back = Technique::invert(&b, t.x1).unwrap();
+    for m in 0..3 {
+        assert!((back[m] - u[m]).abs() < 1e-12, "{back:?}");
+    }
+}
+
+#[test]
+fn vertex_count_is_a_distribution_and_rejects_bad_input() {
+    let c = VertexCount::<f32>::new(8, 2.0, 1.0, 1.5, 0.9).unwrap();
+    assert_eq!(c.cdf(8), 1.0);
+    let total: f32 = (1..=8).map(|k| c.pmf(k)).sum();
+    assert!((total - 1.0).abs() < 1e-6);
+    assert!((1..=8).all(|k| c.pmf(k) >= 0.2 / 8.0 * 0.999));
+    assert_eq!(c.sample(0.0).0, 1);
+    assert_eq!(c.sample(1.0 - f32::EPSILON / 2.0).0, 8);
+    let (lo, hi) = c.invert(3).unwrap();
+    assert_eq!(c.sample(lo).0, 3);
+    assert!(hi > lo && c.invert(9).is_none());
+    assert_eq!(
+        VertexCount::<f64>::new(0, 1.0, 1.0, 1.0, 0.0)
+            .unwrap_err()
+            .field(),
+        "k_max"
+    );
+    assert_eq!(
+        VertexCount::<f64>::new(4, 1.0, 1.0, 1.0, 1.5)
+            .unwrap_err()
+            .field(),
+        "g"
+    );
+    assert_eq!(
+        VertexCount::<f64>::with_mean(4, 1.0, 2.0)
+            .unwrap_err()
+            .field(),
+        "floor"
+    );
+    let none = VertexCount::<f64>::with_mean(4, 0.0, 0.0).unwrap();
+    assert_eq!(none.pmf(1), 1.0);
+    let huge = VertexCount::<f64>::new(8, 1e30, 1e30, 1e30, 0.0).unwrap();
+    assert!((1..=8).all(|k| huge.pmf(k).is_finite()));
+}
