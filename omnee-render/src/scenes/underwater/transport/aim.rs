@@ -38,7 +38,7 @@ pub struct Aim {
 /// The margin is what keeps the light paths' weights bounded under waves:
 /// a refracted ray lands on the floor up to half a metre from the point
 /// `x_f` it was aimed at, so without it a path aimed just outside the image
-/// (by the uniform share alone, about 10³ times less dense than the
+/// (by the defensive share alone, about 10³ times less dense than the
 /// image's share there) lands in it and carries 10³ times the power of its
 /// neighbours: the white speckle along the image's edges (docs/math.md §13.4).
 #[derive(Clone, Debug)]
