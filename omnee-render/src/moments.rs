@@ -20,7 +20,11 @@ pub struct Moments {
 fn power_of_two_above(x: f64) -> f64 {
     let exponent = ((x.abs().to_bits() >> 52) & 0x7ff) as i32;
     // Subnormals have exponent field 0 and are below 2^-1022.
-    let e = if exponent == 0 { -1022 } else { exponent - 1022 };
+    let e = if exponent == 0 {
+        -1022
+    } else {
+        exponent - 1022
+    };
     if e > 1023 {
         f64::MAX
     } else if e >= -1022 {
