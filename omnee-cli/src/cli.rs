@@ -167,7 +167,7 @@ mod tests {
         let m = invalid_name(&e).unwrap().to_string();
         assert_eq!(
             m,
-            "--terms = \"glow\" is not a term; allowed: direct, once-more, view, caustics, caustics-once-more, shafts, shafts-once-more"
+            "--terms = \"glow\" is not a term; allowed: direct, once-more, view, multiple, caustics, caustics-once-more, shafts, shafts-once-more"
         );
         let e = Cli::try_parse_from(["omnee", "default-scene", "moon"]).unwrap_err();
         let m = invalid_name(&e).unwrap().to_string();

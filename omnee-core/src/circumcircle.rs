@@ -20,14 +20,16 @@ use crate::phase::Deflection;
 use crate::real::{Real, Vector, sinc, sinc_is_series, sinc_with_sin};
 
 /// The fixed end points `x0` (light side) and `x2` (receiver side) with the
-/// orthonormal frame `(b1, b2, e)` about the axis `e = (x2 − x0)/s`.
+/// orthonormal frame `(b1, b2, e)` about the axis `e = (x2 − x0)/s`, and
+/// the connection's [`Unit`] of length.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Axis<F: Real> {
     /// The light-side end point.
     pub x0: F::Vec3,
     /// The receiver-side end point.
     pub x2: F::Vec3,
-    /// `s = |x2 − x0| > 0`.
+    /// `s = |x2 − x0| > 0` (rounded to the precision, subnormal for a
+    /// distance below its normal range).
     pub s: F,
     /// The unit axis `e = (x2 − x0)/s`.
     pub e: F::Vec3,
@@ -35,6 +37,100 @@ pub struct Axis<F: Real> {
     pub b1: F::Vec3,
     /// Second unit vector perpendicular to `e` (φ = π/2), `b1 × b2 = e`.
     pub b2: F::Vec3,
+    /// The power of two `L` near `s` in which lengths are measured where
+    /// their squares or products could leave the range (docs/math.md §15).
+    pub unit: Unit<F>,
+    /// `s/L`, exact: `s` itself inside the [`Unit`]'s band, else in
+    /// `[1, 2)` (down to 2⁻²³ in f32, 2⁻⁵² in f64 for a subnormal `s`, up to
+    /// 4 for `s ≥ 2^MAX_EXPONENT`).
+    pub s_unit: F,
+}
+
+/// The length unit of a connection: the power of two `L = 2ᵏ` in which
+/// lengths are measured where their squares, products or inverses could
+/// leave the range (docs/math.md §15).
+///
+/// `L = 1` for `2⁻ᵇ ≤ s < 2ᵇ⁺¹` with `b = MAX_EXPONENT/16` (7 in f32,
+/// 63 in f64: s from 0.008 to 256 m in f32), where lengths of order `s`,
+/// their squares and the products of four of them stay far inside the
+/// range, so that at ordinary scales the core computes in metres and
+/// skips every scaling. Outside that band `2ᵏ ≤ s < 2ᵏ⁺¹`, `k` clamped to
+/// `[MIN_EXPONENT, MAX_EXPONENT − 1]` so that `L` and `1/L` are normal
+/// numbers: lengths divided by `L` are of order one at any `s` from the
+/// smallest subnormal to `F::MAX`, and a density `q` computed in the unit
+/// (per `L³`) is `q L⁻³` in the volume measure. Multiplying by `L` or `1/L`
+/// is exact (a power of two), so scaling a problem by a power of two scales
+/// every result exactly.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Unit<F> {
+    /// `k`, with `L = 2ᵏ`.
+    pub exponent: i32,
+    /// `L = 2ᵏ`.
+    pub length: F,
+    /// `1/L = 2⁻ᵏ`.
+    pub inverse: F,
+}
+
+impl<F: Real> Unit<F> {
+    /// The band `[2⁻ᵇ, 2ᵇ⁺¹)` of distances `s` whose unit is 1,
+    /// `b = MAX_EXPONENT/16`.
+    #[inline]
+    pub fn band() -> (F, F) {
+        let b = F::MAX_EXPONENT / 16;
+        (F::ONE.scale_pow2(-b), F::ONE.scale_pow2(b + 1))
+    }
+
+    /// The unit of a connection of length `s` (finite, > 0; any other `s`
+    /// gives the unit 1): 1 inside the band `|⌊log₂ s⌋| ≤ MAX_EXPONENT/16`,
+    /// else `k = ⌊log₂ s⌋` clamped to `[MIN_EXPONENT, MAX_EXPONENT − 1]`.
+    #[inline]
+    pub fn of(s: F) -> Self {
+        let band = F::MAX_EXPONENT / 16;
+        let k = if s > F::ZERO && s.is_finite() {
+            let k = s.exponent();
+            if (-band..=band).contains(&k) {
+                0
+            } else {
+                k.clamp(F::MIN_EXPONENT, F::MAX_EXPONENT - 1)
+            }
+        } else {
+            0
+        };
+        Self {
+            exponent: k,
+            length: F::ONE.scale_pow2(k),
+            inverse: F::ONE.scale_pow2(-k),
+        }
+    }
+
+    /// A length `x` in the unit in metres, `x L` (no multiplication for
+    /// `L = 1`, the common case: the samplers' latency counts).
+    #[inline(always)]
+    pub fn to_metres(&self, x: F) -> F {
+        if self.exponent == 0 {
+            x
+        } else {
+            x * self.length
+        }
+    }
+
+    /// A volume density `q` per `L³` in the volume measure, `q L⁻³`
+    /// (rounded once where it leaves the normal range, 0 below it, ∞
+    /// above).
+    #[inline(always)]
+    pub fn density_from_unit(&self, q: F) -> F {
+        if self.exponent == 0 {
+            q
+        } else {
+            q.scale_pow2(-3 * self.exponent)
+        }
+    }
+
+    /// A volume density `p` (m⁻³) per `L³`, `p L³`.
+    #[inline]
+    pub fn density_to_unit(&self, p: F) -> F {
+        p.scale_pow2(3 * self.exponent)
+    }
 }
 
 /// The coordinates (θ, β/θ, φ) of a point `x1` relative to an [`Axis`].
@@ -63,8 +159,15 @@ impl<F: Real> Angles<F> {
 }
 
 impl<F: Real> Axis<F> {
-    /// The axis from `x0` to `x2`. Fails for non-finite points, for `x0 == x2`
-    /// and for a distance that overflows.
+    /// The axis from `x0` to `x2`: any two finite, distinct points whose
+    /// distance `s` is at most `F::MAX` (docs/math.md §15). `s` and `e` are
+    /// computed on `x2 − x0` in the [`Unit`] of `s` (`(x2 − x0)/L`, an exact
+    /// scaling), so neither `s²` nor `1/s` over- or underflows: end points
+    /// 1e-45 or 3e38 apart in f32 have their exact axis.
+    ///
+    /// Fails for non-finite points (`NotFinite`, field `"x0"` or `"x2"`),
+    /// for `x0 == x2` (`Degenerate`, `"x2"`) and for a distance above
+    /// `F::MAX` (`NotFinite`, `"x2 - x0"`: it has no value in the precision).
     pub fn new(x0: F::Vec3, x2: F::Vec3) -> Result<Self, Error> {
         if !x0.is_finite() {
             return Err(Error::NotFinite { field: "x0" });
@@ -72,7 +175,11 @@ impl<F: Real> Axis<F> {
         if !x2.is_finite() {
             return Err(Error::NotFinite { field: "x2" });
         }
+        // A component of x2 − x0 overflows only if s > F::MAX.
         let d = x2 - x0;
+        if !d.is_finite() {
+            return Err(Error::NotFinite { field: "x2 - x0" });
+        }
         let s = d.length();
         if !(s > F::ZERO) {
             return Err(Error::Degenerate {
@@ -83,7 +190,12 @@ impl<F: Real> Axis<F> {
         if !s.is_finite() {
             return Err(Error::NotFinite { field: "x2 - x0" });
         }
-        let e = d * (F::ONE / s);
+        let unit = Unit::of(s);
+        // s/L from (x2 − x0)/L itself: for a subnormal s, whose rounding
+        // lost bits, d/L still has them all.
+        let d_unit = d * unit.inverse;
+        let s_unit = d_unit.length();
+        let e = d_unit * (F::ONE / s_unit);
         let (b1, b2) = e.orthonormal_pair();
         Ok(Self {
             x0,
@@ -92,15 +204,32 @@ impl<F: Real> Axis<F> {
             e,
             b1,
             b2,
+            unit,
+            s_unit,
         })
     }
 
+    /// `x − x0` in the connection's unit, `(x − x0)/L`, formed as
+    /// `x/L − x0/L` (exact scalings), so that it does not overflow for
+    /// points on opposite sides near `F::MAX`.
+    #[inline]
+    pub fn from_x0_unit(&self, x: F::Vec3) -> F::Vec3 {
+        x * self.unit.inverse - self.x0 * self.unit.inverse
+    }
+
+    /// `x − x2` in the connection's unit, `(x − x2)/L`.
+    #[inline]
+    pub fn from_x2_unit(&self, x: F::Vec3) -> F::Vec3 {
+        x * self.unit.inverse - self.x2 * self.unit.inverse
+    }
+
     /// The point `x1 = x0 + d1 (cos α e + sin α (cos φ b1 + sin φ b2))` with the
-    /// given angles (docs/math.md §2). `None` where the map has no point: θ ≥ π
-    /// (`x1` at infinity) or non-finite input.
+    /// given angles (docs/math.md §2), the triangle solved in the
+    /// connection's [`Unit`]. `None` where the map has no point: θ ≥ π
+    /// (`x1` at infinity), a point beyond `F::MAX`, or non-finite input.
     #[inline]
     pub fn point(&self, angles: Angles<F>) -> Option<F::Vec3> {
-        let triangle = Triangle::from_angles(self.s, angles)?;
+        let triangle = Triangle::from_angles(self.s_unit, angles)?.in_metres(&self.unit);
         self.place(&triangle, angles.phi)
     }
 
@@ -132,7 +261,7 @@ impl<F: Real> Axis<F> {
 
     /// The angles of `x1`, the inverse of [`point`](Self::point). With the
     /// foot coordinates `p1 = e·(x1 − x0)`, `p2 = e·(x2 − x1)` and the distance
-    /// from the axis `h = |e × (x1 − x0)|`:
+    /// from the axis `h = |e × (x1 − x0)|`, all in the connection's [`Unit`]:
     /// `α = atan2(h, p1)`, `β = atan2(h, p2)`, θ = α + β,
     /// `φ = atan2((x1 − x0)·b2, (x1 − x0)·b1)`.
     ///
@@ -144,17 +273,18 @@ impl<F: Real> Axis<F> {
         if !x1.is_finite() {
             return None;
         }
-        let a = x1 - self.x0;
+        // In the connection's unit (atan2 and the ratios are scale-free).
+        let a = self.from_x0_unit(x1);
         let h = self.e.cross(a).length();
         let p1 = self.e.dot(a);
-        let p2 = self.e.dot(self.x2 - x1);
+        let p2 = -self.e.dot(self.from_x2_unit(x1));
         let alpha = h.atan2(p1);
         let beta = h.atan2(p2);
         let theta = alpha + beta;
         let beta_ratio = if theta > F::ZERO {
             beta / theta
         } else {
-            (p1 / self.s).clamp_to(F::ZERO, F::ONE)
+            (p1 / self.s_unit).clamp_to(F::ZERO, F::ONE)
         };
         let mut phi = a.dot(self.b2).atan2(a.dot(self.b1));
         if phi < F::ZERO {
@@ -188,6 +318,17 @@ pub struct Triangle<F> {
 }
 
 impl<F: Real> Triangle<F> {
+    /// A triangle solved in a connection's [`Unit`], its sides in metres
+    /// (`d L`; its angles unchanged).
+    #[inline(always)]
+    pub fn in_metres(self, unit: &Unit<F>) -> Self {
+        Self {
+            d1: unit.to_metres(self.d1),
+            d2: unit.to_metres(self.d2),
+            ..self
+        }
+    }
+
     /// [`solve`](Self::solve) for plain angles, θ ∈ [0, π) (its versines from θ).
     #[inline]
     pub fn from_angles(s: F, angles: Angles<F>) -> Option<Self> {
@@ -274,11 +415,13 @@ impl<F: Real> Triangle<F> {
 }
 
 /// The side lengths `(d1, d2)` of the triangle with base `s` and the given
-/// angles ([`Triangle::solve`]); `None` for θ ≥ π or non-finite input.
+/// angles ([`Triangle::solve`] in the [`Unit`] of `s`, so that a side is
+/// finite wherever its value is); `None` for θ ≥ π or non-finite input.
 #[inline]
 pub fn side_lengths<F: Real>(s: F, angles: Angles<F>) -> Option<(F, F)> {
-    let t = Triangle::from_angles(s, angles)?;
-    Some((t.d1, t.d2))
+    let unit = Unit::of(s);
+    let t = Triangle::from_angles(s * unit.inverse, angles)?.in_metres(&unit);
+    (t.d1.is_finite() && t.d2.is_finite()).then_some((t.d1, t.d2))
 }
 
 /// The talk's fractional distance of the foot of `x1` along the axis,

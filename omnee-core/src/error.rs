@@ -50,6 +50,15 @@ pub enum Error {
         /// What is wrong, in a few words.
         reason: &'static str,
     },
+    /// An adaptive quadrature spent its evaluation budget before meeting
+    /// its tolerance ([`crate::quadrature::Budget`]): the value it had is
+    /// not trustworthy and is not returned.
+    NotConverged {
+        /// What was being computed (e.g. `"reference"`).
+        field: &'static str,
+        /// The integrand evaluations spent.
+        evaluations: u64,
+    },
 }
 
 impl Error {
@@ -61,7 +70,8 @@ impl Error {
             | Error::Degenerate { field, .. }
             | Error::Table { field, .. }
             | Error::Arrays { field, .. }
-            | Error::Syntax { field, .. } => field,
+            | Error::Syntax { field, .. }
+            | Error::NotConverged { field, .. } => field,
         }
     }
 }
@@ -81,6 +91,10 @@ impl fmt::Display for Error {
             Error::Table { field, reason } => write!(f, "table {field}: {reason}"),
             Error::Arrays { field, reason } => write!(f, "{field}: {reason}"),
             Error::Syntax { field, reason } => write!(f, "syntax error in {field}: {reason}"),
+            Error::NotConverged { field, evaluations } => write!(
+                f,
+                "{field}: the quadrature did not converge within its budget of {evaluations} evaluations"
+            ),
         }
     }
 }

@@ -1,7 +1,8 @@
 //! The once-more techniques a front end chooses between by name
 //! ([`Choice`]: the [`Method`]s of a point-to-point connection, the
-//! [`LobeMethod`]s for a lobe at `x0`, and `auto`, [`auto`]), and the
-//! [`Setup`] that makes one [`Draw`] with any [`Method`].
+//! [`LobeMethod`]s for a lobe at `x0`, and `auto`, [`auto`]), the
+//! [`Setup`] that makes one [`Draw`] with any [`Method`], and how a
+//! renderer's `multiple` term is estimated ([`MultipleMethod`]).
 //!
 //! A renderer's once-more term needs, besides the connection `x0 → x2`
 //! (which changes with every light sample), the phase function at `x1`, how
@@ -323,6 +324,49 @@ pub fn auto(g: f64, tau: f64) -> (Method, AutoReason) {
         (Method::Mis, AutoReason::ThinAndBroad { g, tau })
     }
 }
+
+/// How a renderer estimates its `multiple` term
+/// ([`Term::Multiple`](crate::term::Term::Multiple): light scattered
+/// `k = 2 … K` times between the light and a surface point): the scene
+/// file's `render.multiple`, the command line's `--multiple`. Both are
+/// unbiased estimators of the same integral (docs/math.md §14.9).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MultipleMethod {
+    /// A bridge of `k` vertices from the light point to the surface point
+    /// ([`crate::bridge::Bridge`]), `k` drawn per connection or fixed:
+    /// the deflections from the phase function at every vertex, the chain
+    /// turned and scaled onto the connection.
+    Bridge,
+    /// Path tracing from the surface point: a cosine-weighted direction,
+    /// free-flight distances, deflections from the phase function, and at
+    /// every vertex next event estimation towards the light (with a sphere
+    /// light, balance-heuristic MIS with the phase-sampled rays that hit it).
+    PathTracing,
+}
+
+impl Named for MultipleMethod {
+    const ALL: &'static [Self] = &[MultipleMethod::Bridge, MultipleMethod::PathTracing];
+
+    fn name(self) -> &'static str {
+        match self {
+            MultipleMethod::Bridge => "bridge",
+            MultipleMethod::PathTracing => "path-tracing",
+        }
+    }
+
+    fn help(self) -> &'static str {
+        match self {
+            MultipleMethod::Bridge => {
+                "a bridge of k vertices from the light to the surface point: deflections from the phase function, the chain turned and scaled onto the connection"
+            }
+            MultipleMethod::PathTracing => {
+                "path tracing from the surface point with next event estimation at every vertex (MIS with phase-sampled hits of a sphere light)"
+            }
+        }
+    }
+}
+
+crate::display_by_name!(MultipleMethod);
 
 /// A technique for `x1` when the light leaving `x0` follows a lobe (a phase
 /// function about an incoming direction, docs/math.md §12): what

@@ -7,7 +7,7 @@
 
 use crate::phase::{Deflection, PhaseFunction};
 use crate::real::Real;
-use crate::sampling::{Draw, Omnee, Sample, Technique, Vertex, saturate};
+use crate::sampling::{Draw, Omnee, Sample, Technique, Vertex, density_of, saturate};
 
 /// The MIS heuristic.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -275,12 +275,14 @@ impl<'a, F: Real, P: PhaseFunction<F>> OmneeMis<'a, F, P> {
     /// ([`Technique::pdf_vertex`]), not at the rounded point: next to an end
     /// point the point alone has lost the digits of its distance to it.
     pub fn sample(&self, u: [F; 6]) -> [Option<Sample<F>>; 2] {
+        let unit = &self.omnee.connection.axis.unit;
         let omnee = self
             .omnee
-            .sample_vertex_deflection([u[0], u[1], u[2]])
-            .map(|(s, v, d)| {
+            .sample_unit([u[0], u[1], u[2]])
+            .map(|(s, v, d, own)| {
                 if d.one_minus_cos >= self.one_minus_cos_min && self.rate > F::ZERO {
-                    self.combine(s, self.rate * self.companion.pdf_vertex(&v), F::ONE)
+                    let other = self.rate * self.companion.pdf_vertex_unit(&v, unit);
+                    self.combine(s, own, other, F::ONE)
                 } else {
                     s
                 }
@@ -290,7 +292,11 @@ impl<'a, F: Real, P: PhaseFunction<F>> OmneeMis<'a, F, P> {
             self.companion
                 .sample_vertex([u3, u[4], u[5]], &self.omnee.connection)
                 .filter(|(_, v)| self.behind(v))
-                .map(|(s, v)| self.combine(s, self.omnee.pdf_vertex(&v), self.rate))
+                .map(|(s, v)| {
+                    let companion = |v: &Vertex<F>| self.companion.pdf_vertex_unit(v, unit);
+                    let own = density_of(&s, &v, unit, &companion);
+                    self.combine(s, own, self.omnee.pdf_vertex_unit(&v, unit), self.rate)
+                })
         } else {
             None
         };
@@ -320,15 +326,18 @@ impl<'a, F: Real, P: PhaseFunction<F>> OmneeMis<'a, F, P> {
         }
     }
 
-    /// A vertex of the technique drawn `count` times on average, with the
-    /// other's `count · pdf` at its point: weight `k/(p_O + c p_C)`, the
-    /// balance heuristic over the expected counts, and that sum as its pdf.
+    /// A vertex of the technique drawn `count` times on average with its
+    /// own density `own` and the other's `count · pdf` at its point, both
+    /// per `L³` of the connection's unit (docs/math.md §15): weight
+    /// `k/(p_O + c p_C)`, the balance heuristic over the expected counts,
+    /// and that sum as its pdf (in m⁻³).
     #[inline]
-    fn combine(&self, s: Sample<F>, other: F, count: F) -> Sample<F> {
-        let own = count * s.pdf;
+    fn combine(&self, s: Sample<F>, own: F, other: F, count: F) -> Sample<F> {
+        let own = count * own;
+        let unit = &self.omnee.connection.axis.unit;
         Sample {
             x1: s.x1,
-            pdf: saturate(own + other),
+            pdf: saturate(unit.density_from_unit(own + other)),
             weight: saturate(Heuristic::Balance.weight(own, [other]) * s.weight / count),
         }
     }
@@ -340,13 +349,15 @@ impl<'a, F: Real, P: PhaseFunction<F>> OmneeMis<'a, F, P> {
     }
 
     /// [`pdf`](Self::pdf) at a vertex given with its offsets from the end
-    /// points ([`Vertex`]).
+    /// points ([`Vertex`]), both densities per `L³` and the sum scaled once.
     pub fn pdf_vertex(&self, v: &Vertex<F>) -> F {
-        let omnee = self.omnee.pdf_vertex(v);
         if self.rate > F::ZERO && self.behind(v) {
-            saturate(omnee + self.rate * self.companion.pdf_vertex(v))
+            let unit = &self.omnee.connection.axis.unit;
+            let sum = self.omnee.pdf_vertex_unit(v, unit)
+                + self.rate * self.companion.pdf_vertex_unit(v, unit);
+            saturate(unit.density_from_unit(sum))
         } else {
-            omnee
+            self.omnee.pdf_vertex(v)
         }
     }
 }

@@ -9,6 +9,16 @@
 //! one copy of the adaptive bisection in a binary instead of one per
 //! integrand (the browser demo's module had six), for the price of an
 //! indirect call per evaluation.
+//!
+//! Every integral runs against a [`Budget`] of integrand evaluations,
+//! shared by nested integrals: once it is spent, no panel evaluates its
+//! integrand any more, every pending integral returns at once, and the
+//! caller learns from [`Budget::finish`] that the value did not converge
+//! (`Error::NotConverged`). The depth limit already bounds the work of one
+//! adaptive integral, but nested ones multiply those bounds (a kink the
+//! inner rule cannot resolve costs its depth at every outer node); the
+//! budget turns "slow" into a named outcome. [`integrate`] and
+//! [`integrate_geometric`] run with an unlimited budget.
 
 /// Nodes of the 15-point Kronrod rule on [−1, 1] (non-negative half).
 const XGK: [f64; 8] = [
@@ -40,11 +50,101 @@ const WG: [f64; 4] = [
     0.417_959_183_673_469_4,
 ];
 
+use crate::error::Error;
+use core::cell::Cell;
+
 /// An integrand as the private functions take it.
 type Integrand<'a> = &'a mut dyn FnMut(f64) -> f64;
 
-/// One G7–K15 panel: `(Kronrod estimate, |Kronrod − Gauss|)` of `∫_a^b f`.
-fn gauss_kronrod(f: Integrand<'_>, a: f64, b: f64) -> (f64, f64) {
+/// A budget of integrand evaluations for one quadrature, nested integrals
+/// included: each G7–K15 panel costs 15. When it is spent, panels return
+/// 0 without evaluating (so nested integrals unwind at once) and
+/// [`finish`](Self::finish) reports `Error::NotConverged`.
+#[derive(Debug)]
+pub struct Budget {
+    used: Cell<u64>,
+    limit: u64,
+}
+
+impl Budget {
+    /// A budget of `limit` evaluations.
+    pub const fn new(limit: u64) -> Self {
+        Self {
+            used: Cell::new(0),
+            limit,
+        }
+    }
+
+    /// No limit (the depth limits alone bound the work).
+    pub const fn unlimited() -> Self {
+        Self::new(u64::MAX)
+    }
+
+    /// The evaluations spent so far.
+    pub fn used(&self) -> u64 {
+        self.used.get()
+    }
+
+    /// Whether the budget is spent: every later panel is 0.
+    pub fn exhausted(&self) -> bool {
+        self.used.get() >= self.limit
+    }
+
+    /// Takes the evaluations of one panel; `false` (and nothing taken)
+    /// once the budget is spent.
+    fn take_panel(&self) -> bool {
+        if self.exhausted() {
+            return false;
+        }
+        self.used.set(self.used.get().saturating_add(15));
+        true
+    }
+
+    /// `value` if the budget was not spent computing it (and it is
+    /// finite), else `Error::NotConverged` naming `field` with the
+    /// evaluations spent.
+    pub fn finish(&self, field: &'static str, value: f64) -> Result<f64, Error> {
+        if self.exhausted() || !value.is_finite() {
+            Err(Error::NotConverged {
+                field,
+                evaluations: self.used(),
+            })
+        } else {
+            Ok(value)
+        }
+    }
+
+    /// [`integrate`] against this budget.
+    pub fn integrate<G: FnMut(f64) -> f64>(
+        &self,
+        mut f: G,
+        a: f64,
+        b: f64,
+        rel_tol: f64,
+        abs_tol: f64,
+    ) -> f64 {
+        integrate_dyn(&mut f, a, b, rel_tol, abs_tol, self)
+    }
+
+    /// [`integrate_geometric`] against this budget.
+    pub fn integrate_geometric<G: FnMut(f64) -> f64>(
+        &self,
+        mut f: G,
+        a: f64,
+        b: f64,
+        levels: u32,
+        rel_tol: f64,
+    ) -> f64 {
+        geometric_dyn(&mut f, a, b, levels, rel_tol, self)
+    }
+}
+
+/// One G7–K15 panel: `(Kronrod estimate, |Kronrod − Gauss|)` of `∫_a^b f`;
+/// `(0, 0)` without evaluating `f` once the budget is spent.
+fn gauss_kronrod(f: Integrand<'_>, a: f64, b: f64, budget: &Budget) -> (f64, f64) {
+    if !budget.take_panel() {
+        return (0.0, 0.0);
+    }
     let (c, h) = (0.5 * (a + b), 0.5 * (b - a));
     let fc = f(c);
     let (mut kronrod, mut gauss) = (WGK[7] * fc, WG[3] * fc);
@@ -58,18 +158,28 @@ fn gauss_kronrod(f: Integrand<'_>, a: f64, b: f64) -> (f64, f64) {
     (kronrod * h, ((kronrod - gauss) * h).abs())
 }
 
-fn adapt(f: Integrand<'_>, a: f64, b: f64, whole: (f64, f64), tol: f64, depth: u32) -> f64 {
+/// Bisects `[a, b]` (whose panel gave `whole`) until each piece meets its
+/// share of `tol`, to `depth` more levels, or the budget is spent.
+fn adapt(
+    f: Integrand<'_>,
+    (a, b): (f64, f64),
+    whole: (f64, f64),
+    tol: f64,
+    depth: u32,
+    budget: &Budget,
+) -> f64 {
     let (estimate, error) = whole;
     // Below ~100 ulp of the panel's value the error estimate is round-off, and
     // halving the tolerance further would only bisect noise.
     let floor = 128.0 * f64::EPSILON * estimate.abs();
-    if error <= tol.max(floor) || depth == 0 || !error.is_finite() {
+    if error <= tol.max(floor) || depth == 0 || !error.is_finite() || budget.exhausted() {
         return estimate;
     }
     let m = 0.5 * (a + b);
-    let left = gauss_kronrod(f, a, m);
-    let right = gauss_kronrod(f, m, b);
-    adapt(f, a, m, left, 0.5 * tol, depth - 1) + adapt(f, m, b, right, 0.5 * tol, depth - 1)
+    let left = gauss_kronrod(f, a, m, budget);
+    let right = gauss_kronrod(f, m, b, budget);
+    adapt(f, (a, m), left, 0.5 * tol, depth - 1, budget)
+        + adapt(f, (m, b), right, 0.5 * tol, depth - 1, budget)
 }
 
 /// `∫_a^b f(x) dx` by adaptive G7–K15 bisection to an absolute error of about
@@ -81,17 +191,24 @@ pub fn integrate<G: FnMut(f64) -> f64>(
     rel_tol: f64,
     abs_tol: f64,
 ) -> f64 {
-    integrate_dyn(&mut f, a, b, rel_tol, abs_tol)
+    integrate_dyn(&mut f, a, b, rel_tol, abs_tol, &Budget::unlimited())
 }
 
 /// [`integrate`] through a `dyn` integrand.
-fn integrate_dyn(f: Integrand<'_>, a: f64, b: f64, rel_tol: f64, abs_tol: f64) -> f64 {
+fn integrate_dyn(
+    f: Integrand<'_>,
+    a: f64,
+    b: f64,
+    rel_tol: f64,
+    abs_tol: f64,
+    budget: &Budget,
+) -> f64 {
     if a == b {
         return 0.0;
     }
-    let whole = gauss_kronrod(f, a, b);
+    let whole = gauss_kronrod(f, a, b, budget);
     let tol = abs_tol.max(rel_tol * whole.0.abs());
-    adapt(f, a, b, whole, tol, 40)
+    adapt(f, (a, b), whole, tol, 40, budget)
 }
 
 /// `∫_a^b f(x) dx` with panels split geometrically towards `a`:
@@ -110,37 +227,134 @@ pub fn integrate_geometric<G: FnMut(f64) -> f64>(
     levels: u32,
     rel_tol: f64,
 ) -> f64 {
-    geometric_dyn(&mut f, a, b, levels, rel_tol)
+    geometric_dyn(&mut f, a, b, levels, rel_tol, &Budget::unlimited())
 }
 
 /// [`integrate_geometric`] through a `dyn` integrand.
-fn geometric_dyn(f: Integrand<'_>, a: f64, b: f64, levels: u32, rel_tol: f64) -> f64 {
-    let mut panels = [(0.0, 0.0); 64];
+fn geometric_dyn(
+    f: Integrand<'_>,
+    a: f64,
+    b: f64,
+    levels: u32,
+    rel_tol: f64,
+    budget: &Budget,
+) -> f64 {
+    pieces_dyn(f, &[(a, b, Towards::Start)], levels, rel_tol, budget)
+}
+
+/// Where a piece of [`Budget::integrate_pieces`] has a narrow feature that
+/// geometric panels resolve.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Towards {
+    /// Panels `[a, a + w], [a + w, a + 2w], [a + 2w, a + 4w], …` towards `a`.
+    Start,
+    /// The same, mirrored, towards `b`.
+    End,
+    /// One panel `[a, b]`, bisected adaptively.
+    Neither,
+}
+
+/// The most panels [`Budget::integrate_pieces`] makes (the last piece's
+/// last panel takes the rest of it).
+const MAX_PANELS: usize = 256;
+
+impl Budget {
+    /// `Σ ∫ f` over `pieces` `(a, b, towards)`, each cut into panels
+    /// ([`Towards`], `w = (b − a) 2^{−levels}`) and every panel integrated
+    /// adaptively to the absolute tolerance `rel_tol · Σ|coarse| / panels`
+    /// of a first pass over all of them, as [`integrate_geometric`] does for
+    /// one piece: a piece whose integrand is negligible (or underflows to
+    /// subnormal noise) is not refined for its own sake. For an integrand
+    /// with kinks, pieces split at the kinks keep every panel smooth.
+    pub fn integrate_pieces<G: FnMut(f64) -> f64>(
+        &self,
+        mut f: G,
+        pieces: &[(f64, f64, Towards)],
+        levels: u32,
+        rel_tol: f64,
+    ) -> f64 {
+        pieces_dyn(&mut f, pieces, levels, rel_tol, self)
+    }
+}
+
+/// [`Budget::integrate_pieces`] through a `dyn` integrand.
+fn pieces_dyn(
+    f: Integrand<'_>,
+    pieces: &[(f64, f64, Towards)],
+    levels: u32,
+    rel_tol: f64,
+    budget: &Budget,
+) -> f64 {
+    let mut panels = [(0.0, 0.0); MAX_PANELS];
     let mut count = 0;
-    let mut width = (b - a) / (1u64 << levels.min(62)) as f64;
-    let mut lo = a;
-    while lo < b && count < panels.len() {
-        let hi = if count + 1 == panels.len() {
-            b
-        } else {
-            (lo + width).min(b)
-        };
-        panels[count] = (lo, hi);
-        count += 1;
-        lo = hi;
-        if count > 1 {
-            width *= 2.0;
+    for &(a, b, towards) in pieces {
+        if let Some(room) = panels.get_mut(count..).filter(|r| !r.is_empty() && b > a) {
+            count += split(a, b, towards, levels, room);
         }
     }
-    let coarse: f64 = panels[..count]
+    let panels = panels.get(..count).unwrap_or(&[]);
+    let coarse: f64 = panels
         .iter()
-        .map(|&(lo, hi)| gauss_kronrod(f, lo, hi).0.abs())
+        .map(|&(lo, hi)| gauss_kronrod(f, lo, hi, budget).0.abs())
         .sum();
-    let abs_tol = rel_tol * coarse / count as f64;
-    panels[..count]
+    let abs_tol = rel_tol * coarse / count.max(1) as f64;
+    panels
         .iter()
-        .map(|&(lo, hi)| integrate_dyn(f, lo, hi, rel_tol, abs_tol))
+        .map(|&(lo, hi)| integrate_dyn(f, lo, hi, rel_tol, abs_tol, budget))
         .sum()
+}
+
+/// Cuts `[a, b]` into `out` ([`Towards`]); returns the panels made (at
+/// least one: the last takes what is left when `out` is full).
+fn split(a: f64, b: f64, towards: Towards, levels: u32, out: &mut [(f64, f64)]) -> usize {
+    let room = out.len();
+    let mut width = (b - a) / (1u64 << levels.min(62)) as f64;
+    let mut count = 0;
+    // A piece too narrow for a first panel of positive width is one panel.
+    let towards = if width > 0.0 {
+        towards
+    } else {
+        Towards::Neither
+    };
+    match towards {
+        Towards::Neither => {
+            out[0] = (a, b);
+            count = 1;
+        }
+        Towards::Start => {
+            let mut lo = a;
+            while lo < b && count < room {
+                let hi = if count + 1 == room {
+                    b
+                } else {
+                    (lo + width).min(b)
+                };
+                out[count] = (lo, hi);
+                count += 1;
+                lo = hi;
+                if count > 1 {
+                    width *= 2.0;
+                }
+            }
+        }
+        Towards::End => {
+            let mut hi = b;
+            while hi > a && count < room {
+                let lo = if count + 1 == room {
+                    a
+                } else {
+                    (hi - width).max(a)
+                };
+                out[count] = (lo, hi);
+                count += 1;
+                hi = lo;
+                if count > 1 {
+                    width *= 2.0;
+                }
+            }
+        }
+    }
+    count
 }
 
 #[cfg(test)]

@@ -65,6 +65,12 @@ pub trait Real:
     const INFINITY: Self;
     /// The largest number below 1, `1 − ε/2`: the top of a uniform sample's range.
     const ONE_MINUS_EPSILON: Self;
+    /// The exponent of [`MIN_POSITIVE`](Self::MIN_POSITIVE), `2^MIN_EXPONENT`
+    /// the smallest positive normal number (−126, −1022).
+    const MIN_EXPONENT: i32;
+    /// The exponent of [`MAX`](Self::MAX), `2^MAX_EXPONENT` the largest
+    /// power of two (127, 1023).
+    const MAX_EXPONENT: i32;
 
     /// Converts (rounding) from f64; used for constants.
     fn from_f64(x: f64) -> Self;
@@ -144,6 +150,13 @@ pub trait Real:
     fn is_finite(self) -> bool;
     /// Whether the value is NaN.
     fn is_nan(self) -> bool;
+    /// `self · 2ⁿ`, exact unless the result is subnormal or overflows, where
+    /// it is rounded once (C's `scalbn`): the scaling that moves a length
+    /// into a connection's unit and a density back (docs/math.md §15).
+    fn scale_pow2(self, n: i32) -> Self;
+    /// The exponent `k` with `2ᵏ ≤ |x| < 2ᵏ⁺¹` of a finite non-zero `x`,
+    /// subnormals included (C's `ilogb`); unspecified for 0, ∞ and NaN.
+    fn exponent(self) -> i32;
 
     /// The smaller of two values (NaN-ignoring, like `f32::min`).
     fn min(self, other: Self) -> Self;
@@ -191,7 +204,11 @@ pub trait Vector<F: Copy>:
     fn dot(self, other: Self) -> F;
     /// The cross product a × b.
     fn cross(self, other: Self) -> Self;
-    /// |a|.
+    /// |a|, without overflow or underflow on the way: `√(a·a)` where `a·a`
+    /// is a normal number, else `|a 2⁻ᵏ| 2ᵏ` with `2ᵏ` the largest
+    /// component's power of two (exact scalings), so that any finite vector
+    /// whose length is representable gets it to within an ulp (and a longer
+    /// one ∞).
     fn length(self) -> F;
     /// |a|².
     fn length_squared(self) -> F;
@@ -200,6 +217,10 @@ pub trait Vector<F: Copy>:
     fn orthonormal_pair(self) -> (Self, Self);
     /// Whether every component is finite.
     fn is_finite(self) -> bool;
+    /// `max(|x|, |y|, |z|)` (NaN components ignored).
+    fn max_abs(self) -> F;
+    /// `a · 2ⁿ` component by component ([`Real::scale_pow2`]).
+    fn scale_pow2(self, n: i32) -> Self;
 
     /// The vector's x component.
     #[inline]
@@ -238,6 +259,8 @@ macro_rules! impl_real {
             const MIN_POSITIVE: Self = $f::MIN_POSITIVE;
             const INFINITY: Self = $f::INFINITY;
             const ONE_MINUS_EPSILON: Self = 1.0 - 0.5 * $f::EPSILON;
+            const MIN_EXPONENT: i32 = $f::MIN_EXP - 1;
+            const MAX_EXPONENT: i32 = $f::MAX_EXP - 1;
 
             #[inline]
             fn from_f64(x: f64) -> Self {
@@ -272,6 +295,19 @@ macro_rules! impl_real {
                 $f::is_nan(self)
             }
             #[inline]
+            fn scale_pow2(self, n: i32) -> Self {
+                if (Self::MIN_EXPONENT..=Self::MAX_EXPONENT).contains(&n) {
+                    // 2ⁿ is a normal number: one correctly rounded product.
+                    self * impl_real!(@pow2 $f, n)
+                } else {
+                    impl_real!(@scalbn $f)(self, n)
+                }
+            }
+            #[inline]
+            fn exponent(self) -> i32 {
+                impl_real!(@ilogb $f)(self)
+            }
+            #[inline]
             fn min(self, other: Self) -> Self {
                 $f::min(self, other)
             }
@@ -302,7 +338,14 @@ macro_rules! impl_real {
             }
             #[inline]
             fn length(self) -> $f {
-                <$vec>::length(self)
+                let l2 = <$vec>::length_squared(self);
+                // Where |a|² is a normal number with room below it for the
+                // rounding of subnormal squares, and finite, it is accurate.
+                if ($f::MIN_POSITIVE / $f::EPSILON..=$f::MAX).contains(&l2) {
+                    Real::sqrt(l2)
+                } else {
+                    scaled_length::<$f>(self)
+                }
             }
             #[inline]
             fn length_squared(self) -> $f {
@@ -316,8 +359,24 @@ macro_rules! impl_real {
             fn is_finite(self) -> bool {
                 <$vec>::is_finite(self)
             }
+            #[inline]
+            fn max_abs(self) -> $f {
+                let [x, y, z] = self.to_array();
+                x.abs().max(y.abs()).max(z.abs())
+            }
+            #[inline]
+            fn scale_pow2(self, n: i32) -> Self {
+                let [x, y, z] = self.to_array();
+                <$vec>::new(x.scale_pow2(n), y.scale_pow2(n), z.scale_pow2(n))
+            }
         }
     };
+    (@pow2 f32, $n:expr) => { f32::from_bits((($n + 127) as u32) << 23) };
+    (@pow2 f64, $n:expr) => { f64::from_bits((($n + 1023) as u64) << 52) };
+    (@scalbn f32) => { libm::scalbnf };
+    (@scalbn f64) => { libm::scalbn };
+    (@ilogb f32) => { libm::ilogbf };
+    (@ilogb f64) => { libm::ilogb };
     (@math $f:ident, $m:ident) => {
         #[cfg(feature = "std")]
         impl_real!(@std $f);
@@ -619,6 +678,43 @@ pub fn cast<A: Real, B: Real>(x: A) -> B {
 pub fn cast_vec<A: Real, B: Real>(v: A::Vec3) -> B::Vec3 {
     let [x, y, z] = v.to_array();
     B::Vec3::new(cast(x), cast(y), cast(z))
+}
+
+/// [`Vector::length`] off its fast path: `|a 2⁻ᵏ| 2ᵏ` with `2ᵏ ≤ max |aᵢ|`
+/// (exact scalings), `|a|²` itself where a component is not finite.
+#[cold]
+fn scaled_length<F: Real>(a: F::Vec3) -> F {
+    let largest = a.max_abs();
+    if !(a.is_finite() && largest > F::ZERO) {
+        return a.length_squared().sqrt();
+    }
+    let k = largest.exponent();
+    a.scale_pow2(-k).length_squared().sqrt().scale_pow2(k)
+}
+
+/// The unit vector along a finite, non-zero `a` of any length (components
+/// from the smallest subnormal to `F::MAX`): `a/|a|` where `|a|²` is a
+/// normal number, else computed on `a 2⁻ᵏ` with `2ᵏ` the largest
+/// component's power of two, so that neither `|a|²` nor `1/|a|` over- or
+/// underflows. `None` for a zero or non-finite vector.
+#[inline]
+pub fn unit_vector<F: Real>(a: F::Vec3) -> Option<F::Vec3> {
+    let l2 = a.length_squared();
+    if l2 >= F::MIN_POSITIVE / F::EPSILON && l2 <= F::MAX {
+        return Some(a * (F::ONE / l2.sqrt()));
+    }
+    scaled_unit_vector::<F>(a)
+}
+
+/// [`unit_vector`] off its fast path.
+#[cold]
+fn scaled_unit_vector<F: Real>(a: F::Vec3) -> Option<F::Vec3> {
+    let largest = a.max_abs();
+    if !(a.is_finite() && largest > F::ZERO) {
+        return None;
+    }
+    let scaled = a.scale_pow2(-largest.exponent());
+    Some(scaled * (F::ONE / scaled.length_squared().sqrt()))
 }
 
 /// sinc x = sin x / x, with the series 1 − x²/6 + x⁴/120 near 0 (docs/math.md §4),

@@ -19,9 +19,9 @@
 use crate::error::Error;
 use crate::medium::Homogeneous;
 use crate::phase::{Deflection, PhaseFunction};
-use crate::quadrature::{integrate, integrate_geometric};
+use crate::quadrature::{Budget, Towards};
 use crate::real::{Real, Vector, cast, cast_vec, sinc};
-use crate::sampling::{Connection, Sample};
+use crate::sampling::{Connection, Sample, unit_normal};
 
 /// The point-to-point problem: end points, θmax, medium and receiver.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -36,8 +36,16 @@ pub struct PointToPoint<F: Real> {
 }
 
 impl<F: Real> PointToPoint<F> {
+    /// The integrand evaluations [`Self::try_integral`] may spend: six
+    /// times the most that 300 random receiver normals with θmax up to π
+    /// and σt s up to 30 took (1.6·10⁶, 0.16 s), about two seconds of one
+    /// core at most; typical problems take 10⁴–10⁶ (milliseconds).
+    pub const BUDGET: u64 = 10_000_000;
+
     /// The problem for `connection` in `medium`; `receiver_normal` is
-    /// normalised here and must be finite and non-zero.
+    /// normalised here ([`unit_normal`]: any finite, non-zero length; a NaN
+    /// or infinite component is `NotFinite`, the zero vector `Degenerate`,
+    /// field `"receiver_normal"`).
     pub fn new(
         connection: Connection<F>,
         medium: Homogeneous<F>,
@@ -45,16 +53,7 @@ impl<F: Real> PointToPoint<F> {
     ) -> Result<Self, Error> {
         let receiver_normal = match receiver_normal {
             None => None,
-            Some(n) => {
-                let len = n.length();
-                if !(len > F::ZERO && len.is_finite()) {
-                    return Err(Error::Degenerate {
-                        field: "receiver_normal",
-                        reason: "must be finite and non-zero",
-                    });
-                }
-                Some(n * (F::ONE / len))
-            }
+            Some(n) => Some(unit_normal::<F>(n, "receiver_normal")?),
         };
         Ok(Self {
             connection,
@@ -64,18 +63,28 @@ impl<F: Real> PointToPoint<F> {
     }
 
     /// The factors no technique samples:
-    /// `f_c(x1) = σs e^{−σt (d1 + d2)} [max(0, n·(x1 − x2)/d2)]`.
+    /// `f_c(x1) = σs e^{−σt (d1 + d2)} [max(0, n·(x1 − x2)/d2)]`,
+    /// with `d1`, `d2` in the connection's unit `L` and `σt L` per unit
+    /// (the same optical depth), so that neither the distances nor their
+    /// squares leave the range at any scale (docs/math.md §15).
     #[inline]
     pub fn f_c(&self, x1: F::Vec3) -> F {
         let axis = &self.connection.axis;
-        let (a, b) = (x1 - axis.x0, x1 - axis.x2);
+        let (a, b) = (axis.from_x0_unit(x1), axis.from_x2_unit(x1));
         let (d1, d2) = (a.length(), b.length());
         let cosine = match self.receiver_normal {
             None => F::ONE,
             Some(n) if d2 > F::ZERO => (n.dot(b) / d2).max(F::ZERO),
             Some(_) => F::ZERO,
         };
-        self.medium.sigma_s() * self.medium.transmittance(d1 + d2) * cosine
+        let sigma_t = self.medium.sigma_t();
+        // Without extinction T = 1 at any distance (exp(−0 · ∞) would be NaN).
+        let transmittance = if sigma_t > F::ZERO {
+            (-(sigma_t * axis.unit.length) * (d1 + d2)).exp()
+        } else {
+            F::ONE
+        };
+        self.medium.sigma_s() * transmittance * cosine
     }
 
     /// The one-sample estimate `f_c(x1) · k(x1)/pdf(x1)` of [`Self::integral`].
@@ -89,8 +98,34 @@ impl<F: Real> PointToPoint<F> {
     }
 
     /// The reference value of `I` by quadrature in f64 (relative accuracy
-    /// about 1e-9 for smooth phase functions).
+    /// about 1e-9 for smooth phase functions), or `NaN` if the quadrature
+    /// did not converge within [`Self::BUDGET`] evaluations: see
+    /// [`Self::try_integral`], which says so as an error.
     pub fn integral<P: PhaseFunction<f64>>(&self, phase: &P) -> f64 {
+        self.try_integral(phase).unwrap_or(f64::NAN)
+    }
+
+    /// [`Self::integral`] with its outcome: the value, or
+    /// `Error::NotConverged` (field `"reference"`) when the quadrature spent
+    /// [`Self::BUDGET`] evaluations before meeting its tolerance. It never
+    /// takes longer than the budget (a few seconds).
+    pub fn try_integral<P: PhaseFunction<f64>>(&self, phase: &P) -> Result<f64, Error> {
+        let budget = Budget::new(Self::BUDGET);
+        let value = self.integral_within(phase, &budget);
+        budget.finish("reference", value)
+    }
+
+    /// The quadrature of [`Self::integral`] against `budget`.
+    ///
+    /// With a receiver normal at the angle γ from `x0 − x2`, `Φ(β)` has a
+    /// kink wherever the cosine starts or stops clipping over φ:
+    /// `β + γ = π/2` (it starts clipping) and `|β − γ| = π/2` (it is
+    /// clipped everywhere) (docs/math.md §5.3). The r integral is split at
+    /// `r = β_k/θ` and the θ integral at `θ = β_k` (where `inner(θ)` has a
+    /// kink of its own), so that every piece is smooth: a kink inside a
+    /// panel costs the adaptive rule its whole depth at every outer node,
+    /// which near θ = π ran for hours.
+    pub fn integral_within<P: PhaseFunction<f64>>(&self, phase: &P, budget: &Budget) -> f64 {
         let axis = &self.connection.axis;
         let s: f64 = cast(axis.s);
         let sigma_t: f64 = cast(self.medium.sigma_t());
@@ -103,29 +138,74 @@ impl<F: Real> PointToPoint<F> {
             let to_light = -cast_vec::<F, f64>(axis.e);
             n.cross(to_light).length().atan2(n.dot(to_light))
         });
+        let kinks = gamma.map_or([f64::NAN; 4], clipping_kinks);
         let tol = 1e-11;
+        let normal = gamma.map(libm::sincos);
         let inner = |theta: f64| {
             let sinc_theta = sinc(theta);
+            // d1 + d2 = s (sin β + sin α)/sin θ = s (cos x + tan(θ/2) sin x)
+            // with x the smaller of β = rθ and α = (1 − r)θ: smooth in r to
+            // the last bits even next to θ = π, where sin β/sin θ of the
+            // rounded angles is noise of relative size ε/(π − θ), which the
+            // adaptive rule would chase.
+            let tan_half = libm::tan(0.5 * theta);
+            let supplement = core::f64::consts::PI - theta;
+            let kink_r = kinks.map(|beta| beta / theta);
             let over_r = |r: f64| {
-                let (beta, alpha) = (r * theta, (1.0 - r) * theta);
-                let path = s * (r * sinc(beta) + (1.0 - r) * sinc(alpha)) / sinc_theta;
+                let x = theta * r.min(1.0 - r);
+                let (sin_x, cos_x) = libm::sincos(x);
+                let path = s * (cos_x + tan_half * sin_x);
                 let transmittance = if sigma_t > 0.0 {
                     libm::exp(-sigma_t * path)
                 } else {
                     1.0
                 };
-                transmittance * gamma.map_or(core::f64::consts::TAU, |g| azimuthal_cosine(beta, g))
+                let Some(normal) = normal else {
+                    return transmittance * core::f64::consts::TAU;
+                };
+                // (sin β, cos β), for r > ½ from π − β = (π − θ) + α.
+                let (sin_beta, cos_beta) = if r <= 0.5 {
+                    (sin_x, cos_x)
+                } else {
+                    let (sin_y, cos_y) = libm::sincos(supplement + x);
+                    (sin_y, -cos_y)
+                };
+                // A ± B as sines of the offsets from the nearer kink, with
+                // r − r_k exact next to it.
+                let offset = |k: usize| theta * (r - kink_r[k]);
+                let near = |k: usize| {
+                    let d = offset(k);
+                    if d.abs() <= core::f64::consts::FRAC_PI_2 {
+                        libm::sin(d)
+                    } else {
+                        -libm::sin(offset(k + 1))
+                    }
+                };
+                let (plus, minus) = (near(0), near(2));
+                let (sin_gamma, cos_gamma) = normal;
+                transmittance
+                    * azimuthal_cosine((plus, minus), (sin_beta * sin_gamma, cos_beta * cos_gamma))
             };
             // Near θ = π the path length is long except close to r = 0 and
             // r = 1: layers of width ≈ sinc θ / (σt s) at both ends, resolved
             // by geometric panels towards each end.
             let thickness = sigma_t * s / sinc_theta;
-            if thickness <= 4.0 {
-                return integrate(over_r, 0.0, 1.0, tol, 0.0);
-            }
-            let levels = (libm::log2(thickness) as u32 + 4).min(60);
-            integrate_geometric(&over_r, 0.0, 0.5, levels, tol)
-                + integrate_geometric(|r| over_r(1.0 - r), 0.0, 0.5, levels, tol)
+            let levels = if thickness > 4.0 {
+                (libm::log2(thickness) as u32 + 4).min(60)
+            } else {
+                0
+            };
+            // Pieces between the kinks r = β_k/θ inside (0, 1) and, in a
+            // thick medium, ½ between the two boundary layers, which the
+            // pieces at the ends resolve with geometric panels.
+            let [k0, k1, k2, k3] = kink_r;
+            let (half, ends) = if levels > 0 {
+                (0.5, (Towards::Start, Towards::End))
+            } else {
+                (f64::NAN, (Towards::Neither, Towards::Neither))
+            };
+            let (pieces, n) = pieces_between(0.0, 1.0, [k0, k1, k2, k3, half], ends);
+            budget.integrate_pieces(over_r, pieces.get(..n).unwrap_or(&[]), levels, tol)
         };
         let outer = |theta: f64| {
             if theta <= 0.0 {
@@ -133,25 +213,110 @@ impl<F: Real> PointToPoint<F> {
             }
             phase.eval(Deflection::from_theta(theta)) * theta * inner(theta)
         };
-        sigma_s / s * integrate_geometric(outer, 0.0, theta_max, 40, tol)
+        // θ from 0 with geometric panels towards the forward peak, split at
+        // the kinks θ = β_k inside (0, θmax).
+        let [k0, k1, k2, k3] = kinks;
+        let ends = (Towards::Start, Towards::Neither);
+        let (pieces, n) = pieces_between(0.0, theta_max, [k0, k1, k2, k3, f64::NAN], ends);
+        sigma_s / s * budget.integrate_pieces(outer, pieces.get(..n).unwrap_or(&[]), 40, tol)
     }
+}
+
+/// The deflections `β_k` at `x2` where the receiver cosine about a normal
+/// at the angle γ from `x0 − x2` stops clipping (`A + B = cos(β − γ) = 0`:
+/// `β = γ − π/2`, `γ + π/2`) or starts to (`B − A = −cos(β + γ) = 0`:
+/// `β = π/2 − γ`, `3π/2 − γ`), in that order, pairs a half turn apart:
+/// `A + B = sin(β − β₀) = −sin(β − β₁)`, `B − A = sin(β − β₂) =
+/// −sin(β − β₃)`. Two of the four lie in (0, π) for every γ ≠ π/2.
+fn clipping_kinks(gamma: f64) -> [f64; 4] {
+    let (half_pi, pi) = (core::f64::consts::FRAC_PI_2, core::f64::consts::PI);
+    [
+        gamma - half_pi,
+        gamma + half_pi,
+        half_pi - gamma,
+        pi + half_pi - gamma,
+    ]
+}
+
+/// The pieces of `[lo, hi]` between the `cuts` strictly inside it (in any
+/// order; NaN and cuts outside ignored), in order, and how many there are:
+/// the piece from `lo` refined towards `ends.0`, the one to `hi` towards
+/// `ends.1` (a single piece takes `ends.0`), the others `Neither`.
+///
+/// Plain loops over fixed arrays: the library's sort and slice indexing
+/// would add kilobytes to the browser demo's module.
+fn pieces_between(
+    lo: f64,
+    hi: f64,
+    cuts: [f64; 5],
+    ends: (Towards, Towards),
+) -> ([(f64, f64, Towards); 6], usize) {
+    // Cuts inside, then `hi` for the unused places; insertion sort.
+    let mut points = cuts.map(|c| if c > lo && c < hi { c } else { hi });
+    for i in 1..points.len() {
+        let mut j = i;
+        while j > 0 && points[j - 1] > points[j] {
+            points.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+    let mut pieces = [(lo, hi, Towards::Neither); 6];
+    let (mut n, mut start) = (0, lo);
+    for end in points.into_iter().chain([hi]) {
+        if end > start {
+            let towards = if start == lo {
+                ends.0
+            } else if end == hi {
+                ends.1
+            } else {
+                Towards::Neither
+            };
+            if let Some(piece) = pieces.get_mut(n) {
+                *piece = (start, end, towards);
+                n += 1;
+            }
+            start = end;
+        }
+    }
+    (pieces, n)
 }
 
 /// `Φ(β) = ∫₀^{2π} max(0, A + B cos φ) dφ` with `A = cos β cos γ`,
 /// `B = sin β sin γ ≥ 0`: `2πA` if `A ≥ B`, 0 if `A ≤ −B`, else
-/// `2(A φ₀ + B sin φ₀)` with `φ₀ = acos(−A/B)`.
-fn azimuthal_cosine(beta: f64, gamma: f64) -> f64 {
-    let (a, b) = (
-        libm::cos(beta) * libm::cos(gamma),
-        libm::sin(beta) * libm::sin(gamma),
-    );
-    if a >= b {
-        core::f64::consts::TAU * a
-    } else if a <= -b {
-        0.0
+/// `2(A φ₀ + B sin φ₀) = 2B (sin φ₀ − φ₀ cos φ₀)` with `cos φ₀ = −A/B`
+/// (docs/math.md §5.3), from `A + B`, `B − A` and `(B, A)`.
+///
+/// Evaluated without cancellation next to both kinks: the caller forms
+/// `A + B` and `B − A` as sines of the distance to the nearest kink
+/// ([`clipping_kinks`]), small and accurate where the cosine starts or
+/// stops clipping, `φ₀ = 2 atan2(√(A + B), √(B − A))`, and
+/// `sin φ₀ − φ₀ cos φ₀` by its series for small φ₀, where it is `φ₀³/3`
+/// and the two terms cancel. Formed from `A` and `B` instead, the
+/// integrand next to a kink is rounding noise of relative size ε/φ₀²,
+/// which an adaptive rule chases without end.
+fn azimuthal_cosine((plus, minus): (f64, f64), (b, a): (f64, f64)) -> f64 {
+    if minus <= 0.0 {
+        return core::f64::consts::TAU * a;
+    }
+    if plus <= 0.0 {
+        return 0.0;
+    }
+    let phi0 = 2.0 * libm::atan2(libm::sqrt(plus), libm::sqrt(minus));
+    2.0 * b * sin_minus_x_cos(phi0)
+}
+
+/// `sin x − x cos x` for `x ∈ [0, π]`: its series
+/// `x³/3 − x⁵/30 + x⁷/840 − x⁹/45360 + x¹¹/3991680` below 0.25 (next term
+/// below 1e-16 relative), the difference above (cancelling at most six bits).
+fn sin_minus_x_cos(x: f64) -> f64 {
+    if x < 0.25 {
+        let z = x * x;
+        x * z
+            * (1.0 / 3.0
+                - z * (1.0 / 30.0 - z * (1.0 / 840.0 - z * (1.0 / 45360.0 - z / 3991680.0))))
     } else {
-        let phi0 = libm::acos(-a / b);
-        2.0 * (a * phi0 + b * libm::sin(phi0))
+        let (sin, cos) = libm::sincos(x);
+        sin - x * cos
     }
 }
 
@@ -159,6 +324,7 @@ fn azimuthal_cosine(beta: f64, gamma: f64) -> f64 {
 mod tests {
     use super::*;
     use crate::phase::{HenyeyGreenstein, Isotropic};
+    use crate::quadrature::integrate_geometric;
     use glam::DVec3;
 
     fn problem(sigma_t: f64, theta_max: f64, normal: Option<DVec3>) -> PointToPoint<f64> {
@@ -238,8 +404,14 @@ mod tests {
                 })
                 .sum::<f64>()
                 * h;
+            let plus = libm::cos(beta - gamma);
+            let minus = -libm::cos(beta + gamma);
+            let (b, a) = (
+                libm::sin(beta) * libm::sin(gamma),
+                libm::cos(beta) * libm::cos(gamma),
+            );
             assert!(
-                (azimuthal_cosine(beta, gamma) - num).abs() < 1e-9,
+                (azimuthal_cosine((plus, minus), (b, a)) - num).abs() < 1e-9,
                 "beta {beta} gamma {gamma}"
             );
         }

@@ -5,8 +5,10 @@
 //! A term is a set of light paths, `x_light → … → x_receiver`, told apart by
 //! how many scattering vertices they have in the medium and where they start.
 //! The slab scene has `direct`, `once-more` (one vertex `x1` between the
-//! light and a surface point: the once-more integral, docs/math.md §1) and
-//! `view` (single scattering along camera rays); the underwater scene,
+//! light and a surface point: the once-more integral, docs/math.md §1),
+//! `view` (single scattering along camera rays) and `multiple` (k = 2 … K
+//! vertices between the light and a surface point, docs/math.md §14.9);
+//! the underwater scene,
 //! traced from the sun, has `caustics`, `caustics-once-more`, `shafts` and
 //! `shafts-once-more` (docs/math.md §13).
 
@@ -23,6 +25,9 @@ pub enum Term {
     OnceMore,
     /// Light → a point on the camera ray → eye: single scattering.
     View,
+    /// Light → `x_1 … x_k` in the medium → surface, `k = 2 … K`: light
+    /// scattered more than once on its way to the surface point.
+    Multiple,
     /// Under water: sun → surface → floor point `x0` → eye (light traced).
     Caustics,
     /// Under water: sun → surface → `x0` → `x1` in the water → eye: the blur
@@ -41,6 +46,7 @@ impl Named for Term {
         Term::Direct,
         Term::OnceMore,
         Term::View,
+        Term::Multiple,
         Term::Caustics,
         Term::CausticsOnceMore,
         Term::Shafts,
@@ -52,6 +58,7 @@ impl Named for Term {
             Term::Direct => "direct",
             Term::OnceMore => "once-more",
             Term::View => "view",
+            Term::Multiple => "multiple",
             Term::Caustics => "caustics",
             Term::CausticsOnceMore => "caustics-once-more",
             Term::Shafts => "shafts",
@@ -64,6 +71,9 @@ impl Named for Term {
             Term::Direct => "light -> surface (and the light seen directly), attenuated",
             Term::OnceMore => "light -> x1 in the medium -> surface: the once-more (OMNEE) term",
             Term::View => "light -> a point on the camera ray -> eye: single scattering",
+            Term::Multiple => {
+                "light -> x1 ... xk in the medium -> surface, k = 2 ... K: multiple scattering (bridges or path tracing)"
+            }
             Term::Caustics => "underwater: sun -> surface -> floor point x0 -> eye (light traced)",
             Term::CausticsOnceMore => {
                 "underwater: sun -> surface -> x0 -> x1 in the water -> eye: the blur with depth"
@@ -95,7 +105,8 @@ mod tests {
     fn names_are_the_documented_ones_in_order() {
         assert_eq!(
             std::format!("{}", Term::allowed()),
-            "direct, once-more, view, caustics, caustics-once-more, shafts, shafts-once-more"
+            "direct, once-more, view, multiple, caustics, caustics-once-more, shafts, \
+             shafts-once-more"
         );
         assert_eq!(Term::from_name("once-more"), Some(Term::OnceMore));
         assert_eq!(Term::from_name("Once-More"), None);

@@ -24,8 +24,11 @@
  * (1, success without a result: uniform numbers that map to no contributing
  * vertex, a point without preimage); OMNEE_TABLE_SPEC (2); or a negative
  * OMNEE_ERROR_*. On any status but OMNEE_OK the outputs are zeroed (opaque
- * objects then fail every later use with OMNEE_ERROR_UNINITIALISED). The
- * last argument, omnee_error *error, may be NULL; when it is not and the call
+ * objects then fail every later use with OMNEE_ERROR_UNINITIALISED), except
+ * where a function says otherwise (omnee_phase_parse_* leaves the phase
+ * function unwritten on OMNEE_TABLE_SPEC; omnee_omnee_sample_batch_f32
+ * leaves its vertex arrays as they were on an error); no output is written
+ * before every check of the call has passed. The last argument, omnee_error *error, may be NULL; when it is not and the call
  * fails, it receives the status, the offending field's name, its value
  * (out-of-range numbers) and the message, for the core's errors exactly the
  * Rust API's text: "g = 1 is out of range; allowed: (-1, 1)". NULL pointers,
@@ -39,8 +42,13 @@
  * they do not write concurrently. Opaque objects (omnee_connection_*,
  * omnee_phase_*, omnee_problem_*) are made by their constructors, may be
  * copied with = or memcpy, and need no destructor; their size is a constant
- * of the library's version (the OMNEE_*_WORDS constants). A table's phase
- * function refers to the caller's arrays, which must outlive it unmodified.
+ * of the library's version (the OMNEE_*_WORDS constants). An object's tag
+ * holds a checksum of its storage, checked on every use before the storage
+ * is read: zeroed, garbage or altered memory (even under a tag copied from a
+ * valid object) is OMNEE_ERROR_UNINITIALISED, never dereferenced (a random
+ * change passes with probability 2^-64). A table's phase function refers to
+ * the caller's arrays, which must outlive it unmodified (the checksum covers
+ * the object, not the arrays).
  *
  * POINTERS. Every pointer argument is NULL (a status, never dereferenced) or
  * points to valid memory of its type and documented extent, and outputs do
@@ -53,6 +61,21 @@
  * measure) or per steradian (phase functions), angles in radians. The
  * deflection theta is the angle between the propagation directions before
  * and after scattering (theta = 0: straight on).
+ *
+ * SCALE. Every finite geometry is accepted: end points with any finite
+ * coordinates whose distance s is not zero and at most the precision's
+ * largest number (from 1e-45 to 3.4e38 apart in f32, 4.9e-324 to 1.8e308 in
+ * f64; a larger distance is OMNEE_ERROR_NOT_FINITE, field "x2 - x0"),
+ * normals and directions of any finite non-zero length, theta_max in
+ * (0, pi] down to the smallest subnormal. Lengths and densities are
+ * computed in a power-of-two unit near s, so every result is right
+ * wherever it is representable, and scaling a problem by a power of two
+ * scales every result exactly (docs/math.md section 15). Where a value
+ * itself leaves the range it saturates: a density below the smallest
+ * subnormal is 0, above the largest number the largest number. The
+ * once-scattered transfer falls as 1/s^2 (sigma scaled as 1/s): at s = 1e30
+ * in f32 f_c and weight are each about 1e-30 but their product 1e-60 is 0 in
+ * f32; multiply them in double, or with the light's intensity first.
  */
 
 
@@ -84,10 +107,10 @@
 #define OMNEE_REGION_SLAB 1
 
 // 64-bit words of storage in `omnee_connection_f32`.
-#define OMNEE_CONNECTION_F32_WORDS 9
+#define OMNEE_CONNECTION_F32_WORDS 11
 
 // 64-bit words of storage in `omnee_connection_f64`.
-#define OMNEE_CONNECTION_F64_WORDS 17
+#define OMNEE_CONNECTION_F64_WORDS 21
 
 // 64-bit words of storage in `omnee_phase_f32`.
 #define OMNEE_PHASE_F32_WORDS 8
@@ -96,10 +119,10 @@
 #define OMNEE_PHASE_F64_WORDS 10
 
 // 64-bit words of storage in `omnee_problem_f32`.
-#define OMNEE_PROBLEM_F32_WORDS 12
+#define OMNEE_PROBLEM_F32_WORDS 14
 
 // 64-bit words of storage in `omnee_problem_f64`.
-#define OMNEE_PROBLEM_F64_WORDS 23
+#define OMNEE_PROBLEM_F64_WORDS 27
 
 // What a function did. Zero and positive: success (an output may still be
 // "nothing", as Rust's `None`); negative: an error, described in the
@@ -133,12 +156,20 @@ enum omnee_status
   OMNEE_ERROR_SYNTAX = -5,
   // A required pointer is NULL.
   OMNEE_ERROR_NULL = -6,
-  // An opaque object was not made by its constructor (zeroed or garbage
-  // memory, a failed constructor's output, or the other precision's type).
+  // An opaque object was not made by its constructor, or its storage
+  // changed since: zeroed or garbage memory, a failed constructor's
+  // output, the other precision's type, or a valid tag over altered
+  // storage (the tag carries a checksum of the storage, checked on every
+  // use before the storage is read; a random change goes undetected with
+  // probability 2^-64).
   OMNEE_ERROR_UNINITIALISED = -7,
   // The operation does not exist for these arguments (the batch needs
   // Henyey–Greenstein).
   OMNEE_ERROR_UNSUPPORTED = -8,
+  // A quadrature reference spent its evaluation budget before meeting
+  // its tolerance (`omnee_problem_reference_*`): no value is returned.
+  // It takes at most a few seconds, never longer.
+  OMNEE_ERROR_NOT_CONVERGED = -9,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -336,8 +367,10 @@ typedef struct omnee_samples_f64 {
 typedef struct omnee_rays_f32 {
   // `OMNEE_DIRECTIONS_SPHERE` or `OMNEE_DIRECTIONS_COSINE`.
   uint32_t directions;
-  // The cosine's normal at x2 (finite, non-zero, normalised by the
-  // library); ignored for the sphere.
+  // The cosine's normal at x2, normalised by the library: any finite,
+  // non-zero length (`OMNEE_ERROR_NOT_FINITE` for a NaN or infinite
+  // component, `OMNEE_ERROR_DEGENERATE` for zero); ignored for the
+  // sphere.
   struct omnee_vec3_f32 normal;
   // `OMNEE_REGION_EVERYWHERE` or `OMNEE_REGION_SLAB`.
   uint32_t region;
@@ -353,8 +386,10 @@ typedef struct omnee_rays_f32 {
 typedef struct omnee_rays_f64 {
   // `OMNEE_DIRECTIONS_SPHERE` or `OMNEE_DIRECTIONS_COSINE`.
   uint32_t directions;
-  // The cosine's normal at x2 (finite, non-zero, normalised by the
-  // library); ignored for the sphere.
+  // The cosine's normal at x2, normalised by the library: any finite,
+  // non-zero length (`OMNEE_ERROR_NOT_FINITE` for a NaN or infinite
+  // component, `OMNEE_ERROR_DEGENERATE` for zero); ignored for the
+  // sphere.
   struct omnee_vec3_f64 normal;
   // `OMNEE_REGION_EVERYWHERE` or `OMNEE_REGION_SLAB`.
   uint32_t region;
@@ -417,7 +452,8 @@ typedef struct omnee_sample_f32 {
   // The vertex x1.
   struct omnee_vec3_f32 x1;
   // Its density in the volume measure (1/m³), finite, saturating at the
-  // precision's largest number.
+  // precision's largest number (and 0 where it underflows, e.g. s > 1e13
+  // in f32).
   float pdf;
   // The estimator k(x1)/pdf(x1) without f_c (1/m), finite and ≥ 0;
   // multiply by f_c (`omnee_problem_f_c_*`) for one estimate.
@@ -429,7 +465,8 @@ typedef struct omnee_sample_f64 {
   // The vertex x1.
   struct omnee_vec3_f64 x1;
   // Its density in the volume measure (1/m³), finite, saturating at the
-  // precision's largest number.
+  // precision's largest number (and 0 where it underflows, e.g. s > 1e13
+  // in f32).
   double pdf;
   // The estimator k(x1)/pdf(x1) without f_c (1/m), finite and ≥ 0;
   // multiply by f_c (`omnee_problem_f_c_*`) for one estimate.
@@ -492,11 +529,14 @@ extern "C" {
 
 // Makes the connection from `x0` (light side) to `x2` (receiver side),
 // restricted to deflections θ < `theta_max` ∈ (0, π] (π/2: forward
-// scattering only, the ball with diameter x0x2).
+// scattering only, the ball with diameter x0x2; the smallest subnormal is
+// allowed). Any finite, distinct end points are accepted whose distance is
+// at most the precision's largest number (see SCALE above): s and the axis
+// are computed in a power-of-two unit, so neither s² nor 1/s overflows.
 //
-// Errors: `OMNEE_ERROR_NOT_FINITE` (x0, x2 or their distance),
-// `OMNEE_ERROR_DEGENERATE` (x0 == x2), `OMNEE_ERROR_OUT_OF_RANGE`
-// (theta_max), `OMNEE_ERROR_NULL` (connection).
+// Errors: `OMNEE_ERROR_NOT_FINITE` (x0, x2, or a distance above the
+// largest number: "x2 - x0"), `OMNEE_ERROR_DEGENERATE` (x0 == x2),
+// `OMNEE_ERROR_OUT_OF_RANGE` (theta_max), `OMNEE_ERROR_NULL` (connection).
 omnee_status omnee_connection_init_f32(struct omnee_connection_f32 *connection,
                                        struct omnee_vec3_f32 x0,
                                        struct omnee_vec3_f32 x2,
@@ -706,7 +746,9 @@ omnee_status omnee_phase_table_f64(struct omnee_phase_f64 *phase,
 //
 // For `table:PATH` the library, which does no I/O, returns
 // `OMNEE_TABLE_SPEC` and, if `table_path` is not NULL, where PATH lies in
-// `spec`; the caller reads the file and calls `omnee_phase_table_f32`.
+// `spec` (the phase function is not written); the caller reads the file and
+// calls `omnee_phase_table_f32`. On every other outcome `*table_path` (if
+// not NULL) is zeroed, `{0, 0}`.
 // Errors: `OMNEE_ERROR_SYNTAX` (unknown name, wrong parameter count, not a
 // number, not UTF-8), `OMNEE_ERROR_OUT_OF_RANGE` (a parameter).
 //
@@ -749,9 +791,12 @@ omnee_status omnee_deflection_from_cos_f64(double cos_theta,
                                            struct omnee_deflection_f64 *deflection,
                                            struct omnee_error *error);
 
-// The deflection between two unit propagation directions ω1 (into the
-// vertex) and ω2 (out of it), cos θ = ω1·ω2, from |ω1 − ω2| and |ω1 + ω2|
-// (exact where 1 − ω1·ω2 is not).
+// The deflection between two propagation directions ω1 (into the vertex)
+// and ω2 (out of it), cos θ = ω1·ω2, from |ω1 − ω2| and |ω1 + ω2| (exact
+// where 1 − ω1·ω2 is not). The directions are normalised here: any finite,
+// non-zero length. Errors: `OMNEE_ERROR_NOT_FINITE` for a NaN or infinite
+// component, `OMNEE_ERROR_DEGENERATE` for a zero direction (each naming
+// "omega1" or "omega2").
 omnee_status omnee_deflection_between_f32(struct omnee_vec3_f32 omega1,
                                           struct omnee_vec3_f32 omega2,
                                           struct omnee_deflection_f32 *deflection,
@@ -803,7 +848,8 @@ omnee_status omnee_phase_invert_f64(const struct omnee_phase_f64 *phase,
                                     struct omnee_error *error);
 
 // A deflection with solid-angle density `omnee_phase_eval_f32`, from a
-// uniform number u (finite; clamped into [0, 1]).
+// uniform number u (finite, clamped into [0, 1]; NaN and ±∞ are
+// `OMNEE_ERROR_OUT_OF_RANGE`, as for the deflection constructors).
 omnee_status omnee_phase_sample_f32(const struct omnee_phase_f32 *phase,
                                     float u,
                                     struct omnee_deflection_f32 *deflection,
@@ -831,8 +877,10 @@ omnee_status omnee_phase_mean_cosine_f64(const struct omnee_phase_f64 *phase,
 // to θ < θmax of `connection`:
 // I = ∫ σs p(θ) e^{−σt (d1 + d2)} [cos θ2] / (d1² d2²) dx1.
 // `receiver_normal` (NULL: none) adds the one-sided receiver cosine
-// cos θ2 = max(0, n·(x1 − x2)/d2) about that normal (normalised here;
-// finite, non-zero).
+// cos θ2 = max(0, n·(x1 − x2)/d2) about that normal, normalised here: any
+// finite, non-zero length (components from 1e-45 or 4.9e-324 up to the
+// largest number); `OMNEE_ERROR_NOT_FINITE` for a NaN or infinite
+// component, `OMNEE_ERROR_DEGENERATE` for the zero vector.
 omnee_status omnee_problem_init_f32(struct omnee_problem_f32 *problem,
                                     const struct omnee_connection_f32 *connection,
                                     float sigma_s,
@@ -862,7 +910,8 @@ omnee_status omnee_problem_f_c_f64(const struct omnee_problem_f64 *problem,
                                    struct omnee_error *error);
 
 // One estimate of the problem's integral from a sample of any technique:
-// f_c(x1) · weight (0 for weight 0).
+// f_c(x1) · weight (0 for weight 0), rounded to the precision (0 where the
+// product underflows: see SCALE above).
 omnee_status omnee_problem_estimate_f32(const struct omnee_problem_f32 *problem,
                                         const struct omnee_sample_f32 *sample,
                                         float *estimate,
@@ -877,7 +926,11 @@ omnee_status omnee_problem_estimate_f64(const struct omnee_problem_f64 *problem,
 // The problem's integral I by adaptive Gauss–Kronrod quadrature in double
 // precision (relative accuracy about 1e-9 for smooth phase functions), with
 // the phase function `phase` (double precision, whatever the problem's).
-// Takes milliseconds: a reference, not a per-sample call.
+// Takes milliseconds, at most 0.2 s for a receiver normal and θmax = π: a
+// reference, not a per-sample call. Its cost is bounded: a quadrature that
+// spends its budget of evaluations (about two seconds) before meeting its
+// tolerance returns `OMNEE_ERROR_NOT_CONVERGED` (field "reference") and
+// `*reference` = 0.
 omnee_status omnee_problem_reference_f32(const struct omnee_problem_f32 *problem,
                                          const struct omnee_phase_f64 *phase,
                                          double *reference,
@@ -1182,9 +1235,11 @@ omnee_status omnee_mis_invert_f64(const struct omnee_connection_f64 *connection,
 // The phase function must be Henyey–Greenstein (else
 // `OMNEE_ERROR_UNSUPPORTED`); `uniforms.len` must equal `vertices.len`
 // (else `OMNEE_ERROR_TABLE`), the uniform numbers must be finite (else
-// `OMNEE_ERROR_NOT_FINITE`, naming the array), and no two arrays may
-// overlap (else `OMNEE_ERROR_TABLE`). On an error the vertex arrays are
-// left as they were.
+// `OMNEE_ERROR_NOT_FINITE`, naming the array), no two of the eight arrays
+// may overlap, inputs included (else `OMNEE_ERROR_TABLE`), and `count`
+// must not be NULL (else `OMNEE_ERROR_NULL`). Every check comes before the
+// first write: on an error the vertex arrays are left as they were (and
+// `*count`, if `count` is not NULL, is 0).
 //
 // # Safety
 // Each pointer in `uniforms` and `vertices` is NULL (allowed with length

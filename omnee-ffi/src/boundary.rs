@@ -82,7 +82,9 @@ pub(crate) unsafe fn c_str<'a>(p: *const c_char) -> Option<&'a CStr> {
     (!p.is_null()).then(|| unsafe { CStr::from_ptr(p) })
 }
 
-/// `value` in `N` words of opaque storage.
+/// `value` in `N` words of opaque storage, zero-filled first (so that the
+/// words past the value, and the padding the write leaves alone, are
+/// zero rather than whatever the stack held).
 ///
 /// The storage's size and alignment are checked against `T` at compile time,
 /// where this is instantiated: an object that outgrows its C storage does not
@@ -99,11 +101,36 @@ pub(crate) fn pack<T: Copy, const N: usize>(value: T) -> MaybeUninit<[u64; N]> {
             "opaque storage misaligned"
         );
     }
-    let mut storage = MaybeUninit::<[u64; N]>::uninit();
+    let mut storage = MaybeUninit::<[u64; N]>::zeroed();
     // SAFETY: the storage is at least as large and as aligned as T (checked at
     // compile time above) and is a local that nothing else refers to.
     unsafe { storage.as_mut_ptr().cast::<T>().write(value) };
     storage
+}
+
+/// The storage's words as integers, for the objects' checksum.
+///
+/// Each word is read with `read_volatile`, an opaque load: the compiler
+/// may assume nothing about the bytes, which for an object that a C caller
+/// holds are whatever its memory contains (a constructor's output, a copy,
+/// or garbage). For storage that `pack` filled, the bytes outside the
+/// value's fields are the zeros it wrote first, except padding inside the
+/// value, whose bytes the typed write may leave unspecified; the
+/// constructor's checksum reads them from the storage itself, so a later
+/// check compares the same bytes.
+#[inline]
+pub(crate) fn words<const N: usize>(storage: &MaybeUninit<[u64; N]>) -> [u64; N] {
+    let first = storage.as_ptr().cast::<u64>();
+    core::array::from_fn(|i| {
+        let word = first.wrapping_add(i);
+        // SAFETY: for i < N `word` lies inside the storage, which is aligned
+        // for u64 and live for the borrow. Its bytes are the caller's
+        // memory: what a constructor wrote (`pack`'s zeros, then the
+        // value), a byte copy of that, or garbage; a padding byte inside a
+        // value is whatever the typed write left in memory there. The load
+        // is volatile, so the compiler assumes nothing about what it reads.
+        unsafe { word.read_volatile() }
+    })
 }
 
 /// The value that [`pack`] stored.

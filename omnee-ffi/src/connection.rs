@@ -8,11 +8,14 @@ use omnee_core::sampling::Connection;
 
 /// Makes the connection from `x0` (light side) to `x2` (receiver side),
 /// restricted to deflections θ < `theta_max` ∈ (0, π] (π/2: forward
-/// scattering only, the ball with diameter x0x2).
+/// scattering only, the ball with diameter x0x2; the smallest subnormal is
+/// allowed). Any finite, distinct end points are accepted whose distance is
+/// at most the precision's largest number (see SCALE above): s and the axis
+/// are computed in a power-of-two unit, so neither s² nor 1/s overflows.
 ///
-/// Errors: `OMNEE_ERROR_NOT_FINITE` (x0, x2 or their distance),
-/// `OMNEE_ERROR_DEGENERATE` (x0 == x2), `OMNEE_ERROR_OUT_OF_RANGE`
-/// (theta_max), `OMNEE_ERROR_NULL` (connection).
+/// Errors: `OMNEE_ERROR_NOT_FINITE` (x0, x2, or a distance above the
+/// largest number: "x2 - x0"), `OMNEE_ERROR_DEGENERATE` (x0 == x2),
+/// `OMNEE_ERROR_OUT_OF_RANGE` (theta_max), `OMNEE_ERROR_NULL` (connection).
 #[unsafe(no_mangle)]
 pub extern "C" fn omnee_connection_init_f32(
     connection: Option<&mut MaybeUninit<omnee_connection_f32>>,

@@ -20,6 +20,7 @@ use omnee_core::phase::{
     PhaseFunction, Rayleigh, Spec, Tabulated,
 };
 use omnee_core::real::Real;
+use omnee_core::sampling::unit_normal;
 
 /// The phase-function output parameter.
 type PhaseOut<'a, F> = Option<&'a mut MaybeUninit<<F as Precision>::Phase>>;
@@ -300,7 +301,9 @@ unsafe fn table<F: Precision>(
 ///
 /// For `table:PATH` the library, which does no I/O, returns
 /// `OMNEE_TABLE_SPEC` and, if `table_path` is not NULL, where PATH lies in
-/// `spec`; the caller reads the file and calls `omnee_phase_table_f32`.
+/// `spec` (the phase function is not written); the caller reads the file and
+/// calls `omnee_phase_table_f32`. On every other outcome `*table_path` (if
+/// not NULL) is zeroed, `{0, 0}`.
 /// Errors: `OMNEE_ERROR_SYNTAX` (unknown name, wrong parameter count, not a
 /// number, not UTF-8), `OMNEE_ERROR_OUT_OF_RANGE` (a parameter).
 ///
@@ -347,16 +350,18 @@ fn parse<F: Precision>(
         })?;
         Ok((text, Spec::<F>::parse(text)?))
     })();
+    let span = match parsed {
+        Ok((text, Spec::Table { path })) => omnee_span {
+            offset: path.as_ptr() as usize - text.as_ptr() as usize,
+            length: path.len(),
+        },
+        _ => omnee_span::default(),
+    };
+    if let Some(out) = table_path {
+        out.write(span);
+    }
     match parsed {
-        Ok((text, Spec::Table { path })) => {
-            if let Some(span) = table_path {
-                span.write(omnee_span {
-                    offset: path.as_ptr() as usize - text.as_ptr() as usize,
-                    length: path.len(),
-                });
-            }
-            omnee_status::OMNEE_TABLE_SPEC
-        }
+        Ok((_, Spec::Table { .. })) => omnee_status::OMNEE_TABLE_SPEC,
         Ok((_, Spec::Analytic(phase))) => {
             finish(out, "phase", error, Ok(Some(F::Phase::new(phase))))
         }
@@ -449,9 +454,12 @@ fn from_cos<F: Real>(
     finish(out, "deflection", error, result)
 }
 
-/// The deflection between two unit propagation directions ω1 (into the
-/// vertex) and ω2 (out of it), cos θ = ω1·ω2, from |ω1 − ω2| and |ω1 + ω2|
-/// (exact where 1 − ω1·ω2 is not).
+/// The deflection between two propagation directions ω1 (into the vertex)
+/// and ω2 (out of it), cos θ = ω1·ω2, from |ω1 − ω2| and |ω1 + ω2| (exact
+/// where 1 − ω1·ω2 is not). The directions are normalised here: any finite,
+/// non-zero length. Errors: `OMNEE_ERROR_NOT_FINITE` for a NaN or infinite
+/// component, `OMNEE_ERROR_DEGENERATE` for a zero direction (each naming
+/// "omega1" or "omega2").
 #[unsafe(no_mangle)]
 pub extern "C" fn omnee_deflection_between_f32(
     omega1: omnee_vec3<f32>,
@@ -480,17 +488,9 @@ fn between<F: Real>(
     error: ErrorOut<'_>,
 ) -> omnee_status {
     let result = (|| {
-        let (w1, w2) = (
-            crate::args::point(omega1, "omega1")?,
-            crate::args::point(omega2, "omega2")?,
-        );
+        let w1 = unit_normal::<F>(omega1.get(), "omega1")?;
+        let w2 = unit_normal::<F>(omega2.get(), "omega2")?;
         let d = Deflection::between(w1, w2);
-        if !d.is_finite() {
-            return Err(Failure::Core(Error::Degenerate {
-                field: "omega1",
-                reason: "zero direction",
-            }));
-        }
         Ok(Some(omnee_deflection::from_core(d)))
     })();
     finish(out, "deflection", error, result)
@@ -610,7 +610,8 @@ pub extern "C" fn omnee_phase_invert_f64(
 }
 
 /// A deflection with solid-angle density `omnee_phase_eval_f32`, from a
-/// uniform number u (finite; clamped into [0, 1]).
+/// uniform number u (finite, clamped into [0, 1]; NaN and ±∞ are
+/// `OMNEE_ERROR_OUT_OF_RANGE`, as for the deflection constructors).
 #[unsafe(no_mangle)]
 pub extern "C" fn omnee_phase_sample_f32(
     phase: Option<&omnee_phase_f32>,
@@ -640,7 +641,14 @@ fn sample<F: Precision>(
 ) -> omnee_status {
     let result = (|| {
         let phase = object(phase)?;
-        let [u] = crate::args::uniforms(Some([u]))?;
+        if !u.is_finite() {
+            return Err(Error::OutOfRange {
+                field: "u",
+                value: u.to_f64(),
+                allowed: "finite, clamped to [0, 1]",
+            }
+            .into());
+        }
         let d = phase.sample(u);
         if !d.is_finite() {
             return Err(Error::NotFinite {

@@ -36,12 +36,20 @@ pub enum omnee_status {
     OMNEE_ERROR_SYNTAX = -5,
     /// A required pointer is NULL.
     OMNEE_ERROR_NULL = -6,
-    /// An opaque object was not made by its constructor (zeroed or garbage
-    /// memory, a failed constructor's output, or the other precision's type).
+    /// An opaque object was not made by its constructor, or its storage
+    /// changed since: zeroed or garbage memory, a failed constructor's
+    /// output, the other precision's type, or a valid tag over altered
+    /// storage (the tag carries a checksum of the storage, checked on every
+    /// use before the storage is read; a random change goes undetected with
+    /// probability 2^-64).
     OMNEE_ERROR_UNINITIALISED = -7,
     /// The operation does not exist for these arguments (the batch needs
     /// Henyey–Greenstein).
     OMNEE_ERROR_UNSUPPORTED = -8,
+    /// A quadrature reference spent its evaluation budget before meeting
+    /// its tolerance (`omnee_problem_reference_*`): no value is returned.
+    /// It takes at most a few seconds, never longer.
+    OMNEE_ERROR_NOT_CONVERGED = -9,
 }
 
 /// Bytes in `omnee_error.field`, with the terminating NUL.
@@ -101,6 +109,7 @@ impl Failure {
             Failure::Core(Error::Degenerate { .. }) => OMNEE_ERROR_DEGENERATE,
             Failure::Core(Error::Table { .. } | Error::Arrays { .. }) => OMNEE_ERROR_TABLE,
             Failure::Core(Error::Syntax { .. }) => OMNEE_ERROR_SYNTAX,
+            Failure::Core(Error::NotConverged { .. }) => OMNEE_ERROR_NOT_CONVERGED,
             Failure::Null(_) => OMNEE_ERROR_NULL,
             Failure::Uninitialised(_) => OMNEE_ERROR_UNINITIALISED,
             Failure::Unsupported { .. } => OMNEE_ERROR_UNSUPPORTED,
@@ -152,7 +161,7 @@ impl fmt::Display for Failure {
             Failure::Null(field) => write!(f, "{field}: null pointer"),
             Failure::Uninitialised(field) => write!(
                 f,
-                "{field}: not made by its constructor (zeroed, failed, or the other precision)"
+                "{field}: not made by its constructor (zeroed, failed, the other precision, or changed since)"
             ),
             Failure::Unsupported { field, reason } => write!(f, "{field}: {reason}"),
         }

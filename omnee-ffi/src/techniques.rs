@@ -666,9 +666,11 @@ fn mis_invert<F: Precision>(
 /// The phase function must be Henyey–Greenstein (else
 /// `OMNEE_ERROR_UNSUPPORTED`); `uniforms.len` must equal `vertices.len`
 /// (else `OMNEE_ERROR_TABLE`), the uniform numbers must be finite (else
-/// `OMNEE_ERROR_NOT_FINITE`, naming the array), and no two arrays may
-/// overlap (else `OMNEE_ERROR_TABLE`). On an error the vertex arrays are
-/// left as they were.
+/// `OMNEE_ERROR_NOT_FINITE`, naming the array), no two of the eight arrays
+/// may overlap, inputs included (else `OMNEE_ERROR_TABLE`), and `count`
+/// must not be NULL (else `OMNEE_ERROR_NULL`). Every check comes before the
+/// first write: on an error the vertex arrays are left as they were (and
+/// `*count`, if `count` is not NULL, is 0).
 ///
 /// # Safety
 /// Each pointer in `uniforms` and `vertices` is NULL (allowed with length
@@ -682,6 +684,10 @@ pub unsafe extern "C" fn omnee_omnee_sample_batch_f32(
     count: Option<&mut MaybeUninit<usize>>,
     error: Option<&mut MaybeUninit<omnee_error>>,
 ) -> omnee_status {
+    // No output is written before every check has passed, `count` first.
+    let Some(count) = count else {
+        return crate::status::fail(error, Failure::Null("count"));
+    };
     let result = (|| {
         let connection = *object(connection)?;
         let Phase::HenyeyGreenstein(hg) = *object(phase)? else {
@@ -699,9 +705,21 @@ pub unsafe extern "C" fn omnee_omnee_sample_batch_f32(
             vertices.pdf,
             vertices.weight,
         ];
-        for (i, &a) in outputs.iter().enumerate() {
-            let clash = inputs.iter().any(|&b| overlap(a, m, b, n))
-                || outputs[i + 1..].iter().any(|&b| overlap(a, m, b, m));
+        let arrays = [
+            (inputs[0], n),
+            (inputs[1], n),
+            (inputs[2], n),
+            (outputs[0] as *const f32, m),
+            (outputs[1], m),
+            (outputs[2], m),
+            (outputs[3], m),
+            (outputs[4], m),
+        ];
+        // NULL arrays are reported as NULL below, not as overlapping.
+        for (i, &(a, a_len)) in arrays.iter().enumerate() {
+            let clash = arrays[i + 1..]
+                .iter()
+                .any(|&(b, b_len)| !a.is_null() && !b.is_null() && overlap(a, a_len, b, b_len));
             if clash {
                 return Err(Error::Arrays {
                     field: "batch",
@@ -736,7 +754,7 @@ pub unsafe extern "C" fn omnee_omnee_sample_batch_f32(
         let omnee = Omnee::new(connection, hg);
         Ok(Some(omnee.sample_batch(Uniforms { u0, u1, u2 }, out)?))
     })();
-    finish(count, "count", error, result)
+    finish(Some(count), "count", error, result)
 }
 
 #[cfg(test)]

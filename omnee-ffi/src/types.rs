@@ -3,7 +3,7 @@
 //! storage sizes are constants checked against the core's types at compile
 //! time.
 
-use crate::boundary::{pack, unpack};
+use crate::boundary::{pack, unpack, words};
 use core::mem::MaybeUninit;
 use omnee_core::phase::{Deflection, Phase};
 use omnee_core::real::{Real, Vector};
@@ -47,7 +47,8 @@ pub struct omnee_sample<F> {
     /// The vertex x1.
     pub x1: omnee_vec3<F>,
     /// Its density in the volume measure (1/m³), finite, saturating at the
-    /// precision's largest number.
+    /// precision's largest number (and 0 where it underflows, e.g. s > 1e13
+    /// in f32).
     pub pdf: F,
     /// The estimator k(x1)/pdf(x1) without f_c (1/m), finite and ≥ 0;
     /// multiply by f_c (`omnee_problem_f_c_*`) for one estimate.
@@ -125,8 +126,10 @@ pub const OMNEE_REGION_SLAB: u32 = 1;
 pub struct omnee_rays<F> {
     /// `OMNEE_DIRECTIONS_SPHERE` or `OMNEE_DIRECTIONS_COSINE`.
     pub directions: u32,
-    /// The cosine's normal at x2 (finite, non-zero, normalised by the
-    /// library); ignored for the sphere.
+    /// The cosine's normal at x2, normalised by the library: any finite,
+    /// non-zero length (`OMNEE_ERROR_NOT_FINITE` for a NaN or infinite
+    /// component, `OMNEE_ERROR_DEGENERATE` for zero); ignored for the
+    /// sphere.
     pub normal: omnee_vec3<F>,
     /// `OMNEE_REGION_EVERYWHERE` or `OMNEE_REGION_SLAB`.
     pub region: u32,
@@ -194,6 +197,15 @@ pub struct omnee_span {
 
 /// An opaque object of the C API: a tag that its constructor sets, and the
 /// core's value in fixed-size storage.
+///
+/// The tag is the type's magic number XOR a checksum of every storage word
+/// ([`checksum`]), so an object is accepted only if its storage holds, bit
+/// for bit, what a constructor of this type wrote: zeroed memory, a failed
+/// constructor's output, the other precision's object, and garbage or
+/// altered storage under a copied tag all fail with
+/// `OMNEE_ERROR_UNINITIALISED` (a random change passes with probability
+/// 2⁻⁶⁴) before any byte of the storage is interpreted, so no pointer a
+/// corrupted table object seems to hold is ever followed.
 pub(crate) trait Object: Sized + Default {
     /// The core's value.
     type Value: Copy;
@@ -201,8 +213,30 @@ pub(crate) trait Object: Sized + Default {
     const NAME: &'static str;
     /// The object from its value, tagged.
     fn new(value: Self::Value) -> Self;
-    /// The value, if a constructor of this type made the object.
+    /// The value, if a constructor of this type made the object and its
+    /// storage is unchanged since.
     fn value(&self) -> Option<&Self::Value>;
+}
+
+/// A checksum of an object's storage words: each word times its own odd
+/// constant, summed (independent products, so it costs about one cycle a
+/// word), then SplitMix64's finaliser, so that every bit of every word
+/// reaches every bit of the result. Any change of a single word changes
+/// the sum (the constants are odd), and random words match a given
+/// checksum with probability 2⁻⁶⁴.
+#[inline]
+pub(crate) fn checksum<const N: usize>(words: &[u64; N]) -> u64 {
+    let mut h = 0u64;
+    let mut k = 0x9e37_79b9_7f4a_7c15u64;
+    for &w in words {
+        h = h.wrapping_add(w.wrapping_mul(k | 1));
+        k = k.wrapping_add(0x6a09_e667_f3bc_c909);
+    }
+    h ^= h >> 30;
+    h = h.wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    h ^= h >> 27;
+    h = h.wrapping_mul(0x94d0_49bb_1331_11eb);
+    h ^ (h >> 31)
 }
 
 /// Declares the `Object` impl of an opaque struct with fields `tag` and
@@ -225,19 +259,22 @@ macro_rules! object {
 
             #[inline]
             fn new(value: $value) -> Self {
+                let storage = pack::<$value, $words>(value);
                 Self {
-                    tag: u64::from_le_bytes(*$tag),
-                    storage: pack::<$value, $words>(value),
+                    tag: u64::from_le_bytes(*$tag) ^ checksum(&words(&storage)),
+                    storage,
                 }
             }
 
             #[inline]
             fn value(&self) -> Option<&$value> {
-                if self.tag != u64::from_le_bytes(*$tag) {
+                if self.tag != u64::from_le_bytes(*$tag) ^ checksum(&words(&self.storage)) {
                     return None;
                 }
-                // SAFETY: only `new` writes this tag, together with a `$value`
-                // packed into the storage; a byte copy keeps both.
+                // SAFETY: the tag matches the checksum of the storage as it
+                // is now, which only `new` produces (up to a 2⁻⁶⁴ chance for
+                // other bits): the storage holds the `$value` that `new`
+                // packed, or a byte copy of it.
                 Some(unsafe { unpack::<$value, $words>(&self.storage) })
             }
         }
@@ -245,17 +282,17 @@ macro_rules! object {
 }
 
 /// 64-bit words of storage in `omnee_connection_f32`.
-pub const OMNEE_CONNECTION_F32_WORDS: usize = 9;
+pub const OMNEE_CONNECTION_F32_WORDS: usize = 11;
 /// 64-bit words of storage in `omnee_connection_f64`.
-pub const OMNEE_CONNECTION_F64_WORDS: usize = 17;
+pub const OMNEE_CONNECTION_F64_WORDS: usize = 21;
 /// 64-bit words of storage in `omnee_phase_f32`.
 pub const OMNEE_PHASE_F32_WORDS: usize = 8;
 /// 64-bit words of storage in `omnee_phase_f64`.
 pub const OMNEE_PHASE_F64_WORDS: usize = 10;
 /// 64-bit words of storage in `omnee_problem_f32`.
-pub const OMNEE_PROBLEM_F32_WORDS: usize = 12;
+pub const OMNEE_PROBLEM_F32_WORDS: usize = 14;
 /// 64-bit words of storage in `omnee_problem_f64`.
-pub const OMNEE_PROBLEM_F64_WORDS: usize = 23;
+pub const OMNEE_PROBLEM_F64_WORDS: usize = 27;
 
 // The constants above are the core's sizes on 64-bit targets, rounded up to
 // whole words (32-bit targets need at most as much; `pack` checks every

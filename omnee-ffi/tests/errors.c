@@ -157,7 +157,8 @@ int main(void) {
   CHECK(omnee_deflection_from_theta_f32(0.5f, &d, &e) == OMNEE_OK);
   memset(&zeroed_phase, 0, sizeof zeroed_phase);
   EXPECT(omnee_phase_eval_f32(&zeroed_phase, &d, &value, &e), OMNEE_ERROR_UNINITIALISED, "phase",
-         "phase: not made by its constructor (zeroed, failed, or the other precision)");
+         "phase: not made by its constructor (zeroed, failed, the other precision, or changed "
+         "since)");
   CHECK(omnee_phase_hg_f32(&failed_phase, 2.0f, NULL) == OMNEE_ERROR_OUT_OF_RANGE);
   CHECK(omnee_phase_eval_f32(&failed_phase, &d, &value, NULL) == OMNEE_ERROR_UNINITIALISED);
   CHECK(omnee_phase_eval_f32((const omnee_phase_f32 *)(const void *)&hg64, &d, &value, NULL) ==
@@ -183,8 +184,8 @@ int main(void) {
   }
   EXPECT(omnee_phase_eval_f32(&hg, NULL, &value, &e), OMNEE_ERROR_NULL, "deflection",
          "deflection: null pointer");
-  EXPECT(omnee_phase_sample_f32(&hg, NAN, &d, &e), OMNEE_ERROR_NOT_FINITE, "u",
-         "u has a non-finite component");
+  EXPECT(omnee_phase_sample_f32(&hg, NAN, &d, &e), OMNEE_ERROR_OUT_OF_RANGE, "u",
+         "u = NaN is out of range; allowed: finite, clamped to [0, 1]");
   CHECK(omnee_deflection_from_theta_f32(0.5f, &d, &e) == OMNEE_OK);
   CHECK(omnee_phase_invert_f32(&mix, &d, &value, &e) == OMNEE_NONE && value == 0.0f);
 

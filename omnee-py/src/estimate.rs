@@ -165,6 +165,7 @@ pub fn estimate<'py>(
         },
         x0_phase: None,
         x0_incoming: None,
+        vertices: Default::default(),
     };
     let samples = unsigned("samples", samples, "[1, 2^40]")?;
     let threads = count("threads", threads, "[0, 1024], 0: one per core")?;

@@ -21,14 +21,16 @@
 //! - [`render`]: the one render loop (passes, threads, a progress callback,
 //!   cancellation), which does not know what a work item computes;
 //! - [`point`]: the point-to-point problem and its estimate and samples
-//!   engines; the slab scene's probe is `scenes::slab::probe`;
+//!   engines, with one vertex or bridges of several; the slab scene's
+//!   probe is `scenes::slab::probe`;
 //! - [`image`]: layers of linear RGB and tone mapping; `files` (feature
 //!   `files`): OpenEXR and PNG, written atomically;
 //! - shared pieces: [`camera`] (the pinhole and the pixel measurement),
 //!   [`phase`] (phase specs and their tables), `section` (reading a TOML
 //!   section field by field), [`range`] (range checks), [`parallel`] (the
 //!   pool and the chunks), [`technique`] (a technique as asked for and as
-//!   used), [`moments`], [`rng`], [`error`].
+//!   used), [`vertices`] (how many vertices a bridge has), [`moments`],
+//!   [`rng`], [`error`].
 
 pub mod camera;
 pub mod error;
@@ -47,5 +49,6 @@ pub mod scenes;
 #[cfg(feature = "scenes")]
 pub mod section;
 pub mod technique;
+pub mod vertices;
 
 pub use error::{RenderError, Result};

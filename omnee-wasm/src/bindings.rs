@@ -123,6 +123,13 @@ fn js(e: omnee_core::Error) -> JsValue {
         }
         Table { field, reason } => error("table ", field, None, ": ", reason),
         Syntax { field, reason } => error("syntax error in ", field, None, ": ", reason),
+        NotConverged { field, evaluations } => error(
+            field,
+            ": the quadrature did not converge within its budget of ",
+            Some(evaluations as f64),
+            " evaluations",
+            "",
+        ),
     }
 }
 

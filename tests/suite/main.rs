@@ -16,6 +16,8 @@ mod connections;
 mod harness;
 mod lobe;
 mod properties;
+mod references;
+mod scale;
 mod stability;
 mod tables;
 mod unbiased;

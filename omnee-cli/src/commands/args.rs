@@ -5,6 +5,8 @@ use crate::named::closed;
 use clap::Args;
 use omnee_core::method::Choice;
 use omnee_render::point::problem::{Precision, Problem};
+use omnee_render::vertices::{DEFAULT_MAX_VERTICES, VertexNumber};
+use omnee_render::{RenderError, Result};
 
 /// `X,Y,Z` with finite components.
 pub fn parse_vec3(s: &str) -> std::result::Result<[f64; 3], String> {
@@ -36,6 +38,23 @@ pub fn parse_resolution(s: &str) -> std::result::Result<(u32, u32), String> {
         return Err(bad());
     }
     Ok((w, h))
+}
+
+/// `auto` or an integer `K` (its range is the library's to check).
+pub fn parse_vertices(s: &str) -> std::result::Result<VertexNumber, String> {
+    VertexNumber::parse(s, DEFAULT_MAX_VERTICES)
+}
+
+/// `vertices` with `--max-vertices` applied to `auto`; an error for a
+/// fixed number.
+pub fn with_max(vertices: VertexNumber, max: Option<usize>) -> Result<VertexNumber> {
+    match (vertices, max) {
+        (VertexNumber::Auto { .. }, Some(max)) => Ok(VertexNumber::Auto { max }),
+        (VertexNumber::Fixed(_), Some(max)) => Err(RenderError::Input(format!(
+            "--max-vertices = {max} applies to --vertices auto only; allowed: leave it out"
+        ))),
+        (v, None) => Ok(v),
+    }
 }
 
 /// `A,B,C,D` of non-negative integers.
@@ -92,12 +111,18 @@ pub struct ProblemArgs {
     /// Propagation direction X,Y,Z of the light arriving at x0 (normalised here)
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub x0_incoming: Option<[f64; 3]>,
+    /// Scattering vertices between x0 and x2: 1 (the once-more integral, by --technique), K in [2, 32] (bridges of K vertices: I_K), or auto (the sum of I_K over K = 1 ... --max-vertices, K drawn per sample)
+    #[arg(long, value_parser = parse_vertices, default_value = "1", value_name = "K|auto", allow_hyphen_values = true)]
+    pub vertices: VertexNumber,
+    /// The largest K of --vertices auto [default: 8]
+    #[arg(long, value_name = "K")]
+    pub max_vertices: Option<usize>,
 }
 
 impl ProblemArgs {
     /// The problem these options state.
-    pub fn problem(&self) -> Problem {
-        Problem {
+    pub fn problem(&self) -> Result<Problem> {
+        Ok(Problem {
             x0: self.x0,
             x2: self.x2,
             phase: self.phase.clone(),
@@ -110,7 +135,8 @@ impl ProblemArgs {
             precision: self.precision,
             x0_phase: self.x0_phase.clone(),
             x0_incoming: self.x0_incoming,
-        }
+            vertices: with_max(self.vertices, self.max_vertices)?,
+        })
     }
 }
 
@@ -127,5 +153,16 @@ mod tests {
         assert!(parse_resolution("0x48").unwrap_err().contains("[1, 16384]"));
         assert_eq!(parse_u32x4("0,1,2,3"), Ok([0, 1, 2, 3]));
         assert!(parse_u32x4("0,1,2,-3").is_err());
+        assert_eq!(parse_vertices("auto"), Ok(VertexNumber::Auto { max: 8 }));
+        assert_eq!(parse_vertices("3"), Ok(VertexNumber::Fixed(3)));
+        assert!(parse_vertices("-3").is_err());
+        assert_eq!(
+            with_max(VertexNumber::Auto { max: 8 }, Some(4)).unwrap(),
+            VertexNumber::Auto { max: 4 }
+        );
+        let e = with_max(VertexNumber::Fixed(2), Some(4))
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("--max-vertices = 4"), "{e}");
     }
 }

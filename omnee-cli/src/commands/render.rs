@@ -4,12 +4,12 @@
 //! the scene's `[render]` and `[camera]` settings; the library checks and
 //! renders ([`omnee_render::scenes::Scene::render`]).
 
-use super::args::{parse_resolution, parse_u32x4};
+use super::args::{parse_resolution, parse_u32x4, parse_vertices, with_max};
 use super::probe::parse_source;
 use crate::named::closed;
 use crate::progress::Bar;
 use clap::Args;
-use omnee_core::method::Choice;
+use omnee_core::method::{Choice, MultipleMethod};
 use omnee_core::names::Named;
 use omnee_core::term::Term;
 use omnee_render::error::Spelling;
@@ -21,6 +21,7 @@ use omnee_render::render::Rendered;
 use omnee_render::render::budget::Budget;
 use omnee_render::scenes::underwater::UNDERWATER_TERMS;
 use omnee_render::scenes::{RenderReport, RenderSettings, Scene, SceneStats, Source};
+use omnee_render::vertices::VertexNumber;
 use omnee_render::{RenderError, Result};
 use serde_json::json;
 use std::path::PathBuf;
@@ -113,6 +114,15 @@ pub struct RenderArgs {
     /// Restrict the once-more integrand to deflections theta < THETA_MAX (radians, (0, pi]).
     #[arg(long)]
     pub theta_max: Option<f64>,
+    /// How the multiple term is estimated (slab scenes; default: the scene's render.multiple).
+    #[arg(long, value_parser = closed::<MultipleMethod>(), value_name = "METHOD")]
+    pub multiple: Option<MultipleMethod>,
+    /// The multiple term's orders: K in [2, 32] (light scattered exactly K times) or auto (2 ... --max-vertices, drawn per connection by bridges); default: the scene's render.vertices.
+    #[arg(long, value_parser = parse_vertices, value_name = "K|auto", allow_hyphen_values = true)]
+    pub vertices: Option<VertexNumber>,
+    /// The largest order of --vertices auto (default: the scene's render.max_vertices).
+    #[arg(long, value_name = "K")]
+    pub max_vertices: Option<usize>,
     /// How the once-more and view terms draw deflections from the medium's phase function (slab scenes).
     #[arg(long, value_parser = closed::<PhaseSampling>(), value_name = "HOW", default_value = "table")]
     pub phase_sampling: PhaseSampling,
@@ -149,6 +159,14 @@ impl RenderArgs {
                  splats every path); allowed: leave it out"
             )));
         }
+        let multiple = self.multiple.is_some() || self.vertices.is_some();
+        if matches!(scene, Scene::Underwater(_)) && (multiple || self.max_vertices.is_some()) {
+            return Err(RenderError::Input(
+                "--multiple, --vertices and --max-vertices apply to the slab scene's multiple \
+                 term; allowed: leave them out"
+                    .into(),
+            ));
+        }
         if let Some(n) = self.spp {
             s.budget = Budget::Spp(n);
         } else if let Some(t) = self.time {
@@ -162,6 +180,13 @@ impl RenderArgs {
         s.terms = self.terms.clone().unwrap_or(s.terms);
         s.technique = self.technique.unwrap_or(s.technique);
         s.theta_max = self.theta_max.unwrap_or(s.theta_max);
+        s.multiple = self.multiple.unwrap_or(s.multiple);
+        let vertices = match (self.vertices, s.vertices) {
+            (Some(VertexNumber::Auto { .. }), scene @ VertexNumber::Auto { .. })
+            | (None, scene) => scene,
+            (Some(v), _) => v,
+        };
+        s.vertices = with_max(vertices, self.max_vertices)?;
         s.russian_roulette = self.russian_roulette.unwrap_or(s.russian_roulette);
         s.exposure = self.exposure.or(s.exposure);
         s.phase_sampling = self.phase_sampling;
@@ -274,6 +299,10 @@ fn summary_json(
         "technique": t.used.to_string(), "technique_requested": t.requested.to_string(),
         "auto_reason": t.reason.map(|r| r.to_string()), "theta_max": s.theta_max, "exposure": ev,
         "skipped": report.skipped,
+        "multiple": s.terms.contains(&Term::Multiple).then(|| json!({
+            "method": s.multiple.to_string(), "vertices": s.vertices.to_string(),
+            "max_vertices": s.vertices.range(2).1,
+        })),
         "exr": exr.as_ref().map(|p| p.display().to_string()),
         "png": png.as_ref().map(|p| p.display().to_string()),
     });

@@ -55,7 +55,7 @@ pub struct SamplesArgs {
 
 /// `omnee samples`.
 pub fn run(a: SamplesArgs) -> Result<()> {
-    let problem = a.problem.problem();
+    let problem = a.problem.problem()?;
     let s = samples(&problem, a.count, Spelling::Options)?;
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     let w = |r: std::io::Result<()>| {
@@ -100,12 +100,16 @@ pub fn run(a: SamplesArgs) -> Result<()> {
             if let Some(c) = s.lobe_probability {
                 (tech, reason) = lobe_technique_json(&technique.used.to_string(), c);
             }
+            if s.prepared.bridges() {
+                (tech, reason) = (json!("bridge"), json!(null));
+            }
             let lobe = s.prepared.lobe.as_ref();
             let v = json!({
                 "technique": tech, "technique_requested": requested, "auto_reason": reason,
                 "draws": a.count, "returned": s.rows.len(), "samples": list,
                 "x0_phase": lobe.map(|l| l.phase.to_string()),
                 "x0_incoming": lobe.map(|l| l.incoming), "lobe_probability": s.lobe_probability,
+                "vertices": s.prepared.vertices.to_string(),
             });
             w(writeln!(out, "{v}"))?;
         }

@@ -38,6 +38,11 @@ pub fn print_result(v: &Value, as_json: bool) {
         }
     }
     if !v["reference"].is_null() {
-        println!("  reference (quadrature): {}", v["reference"]);
+        let kind = if v["technique"] == "bridge" {
+            "closed form"
+        } else {
+            "quadrature"
+        };
+        println!("  reference ({kind}): {}", v["reference"]);
     }
 }

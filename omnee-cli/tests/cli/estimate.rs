@@ -407,3 +407,238 @@ fn samples_lists_x1_with_pdf_and_weight() {
         assert_eq!(s["estimate"], 0.0);
     }
 }
+
+#[test]
+fn bridges_estimate_the_isotropic_closed_form_for_several_vertex_counts() {
+    // 10 estimates against the closed form of docs/math.md §14.6, each
+    // within 4.5 σ (two-sided normal tail 6.8e-6 each; the bridges' relative
+    // variance is at most 20 here, docs/math.md §14, so 10⁵ draws are
+    // near-normal), in f32 and f64, fixed K and the drawn K.
+    let geometry = ["--x0", "0,0,0", "--x2", "0.3,-0.2,0.9", "--phase", "iso"];
+    for (vertices, sigma_s, sigma_t, precision) in [
+        ("2", "0.5", "1", "f32"),
+        ("2", "1.5", "2", "f64"),
+        ("3", "0.5", "1", "f64"),
+        ("4", "2", "2.5", "f32"),
+        ("5", "0.5", "1", "f32"),
+        ("8", "3", "3", "f64"),
+        ("auto", "0.5", "1", "f32"),
+        ("auto", "2", "2.2", "f64"),
+    ] {
+        let v = estimate(
+            &[
+                &geometry[..],
+                &[
+                    "--vertices",
+                    vertices,
+                    "--sigma-s",
+                    sigma_s,
+                    "--sigma-t",
+                    sigma_t,
+                    "--precision",
+                    precision,
+                    "--samples",
+                    "100000",
+                ],
+            ]
+            .concat(),
+        );
+        let (mean, se, want) = (
+            v["mean"].as_f64().unwrap(),
+            v["stderr"].as_f64().unwrap(),
+            v["reference"].as_f64().unwrap(),
+        );
+        let case = format!("--vertices {vertices} σs {sigma_s} σt {sigma_t} {precision}");
+        assert!(
+            (mean - want).abs() < 4.5 * se,
+            "{case}: {mean} ± {se} vs {want}"
+        );
+        assert!(se < 0.05 * want, "{case}: {se}");
+        assert_eq!(v["technique"], "bridge", "{case}");
+        assert_eq!(v["vertices"], vertices, "{case}");
+        // The orders add up to the whole, mean and reference.
+        let orders = v["orders"].as_array().unwrap();
+        let sum = |key: &str| -> f64 { orders.iter().map(|o| o[key].as_f64().unwrap()).sum() };
+        assert!((sum("mean") - mean).abs() <= 1e-9 * mean, "{case}");
+        assert!((sum("reference") - want).abs() <= 1e-12 * want, "{case}");
+        if vertices == "auto" {
+            assert_eq!(orders.len(), 8, "{case}: K_max is 8");
+            assert!((sum("probability") - 1.0).abs() < 1e-6, "{case}");
+        }
+    }
+    // --max-vertices changes K_max; the first order is the once-more
+    // integral, whose closed form is the quadrature's.
+    let v = estimate(
+        &[
+            &geometry[..],
+            &[
+                "--vertices",
+                "auto",
+                "--max-vertices",
+                "3",
+                "--sigma-s",
+                "1",
+                "--sigma-t",
+                "1.5",
+                "--precision",
+                "f64",
+            ],
+        ]
+        .concat(),
+    );
+    assert_eq!(v["orders"].as_array().unwrap().len(), 3);
+    assert_eq!(v["max_vertices"], 3);
+    let once = estimate(&[&geometry[..], &["--sigma-s", "1", "--sigma-t", "1.5"]].concat());
+    let (a, b) = (
+        v["orders"][0]["reference"].as_f64().unwrap(),
+        once["reference"].as_f64().unwrap(),
+    );
+    assert!((a - b).abs() < 1e-9 * b, "{a} vs {b}");
+}
+
+#[test]
+fn one_vertex_is_the_estimate_as_before_and_bad_vertex_counts_are_named() {
+    // --vertices 1 is the default and draws exactly as without it.
+    let args = [
+        "--x0",
+        "0,0,0",
+        "--x2",
+        "0,0,1",
+        "--sigma-s",
+        "0.2",
+        "--sigma-t",
+        "0.5",
+        "--phase",
+        "hg:0.9",
+        "--samples",
+        "5000",
+    ];
+    let plain = estimate_only(&args);
+    let one = estimate_only(&[&args[..], &["--vertices", "1"]].concat());
+    assert_eq!(plain["mean"], one["mean"]);
+    assert_eq!(plain["stderr"], one["stderr"]);
+    assert_eq!(one["technique"], "omnee");
+    let base = [
+        "estimate",
+        "--x0",
+        "0,0,0",
+        "--x2",
+        "0,0,1",
+        "--sigma-s",
+        "0.2",
+    ];
+    for (extra, needle) in [
+        (
+            vec!["--sigma-t", "0.5", "--vertices", "0"],
+            "--vertices = 0",
+        ),
+        (
+            vec!["--sigma-t", "0.5", "--vertices", "33"],
+            "--vertices = 33",
+        ),
+        (vec!["--sigma-t", "0.5", "--vertices", "many"], "--vertices"),
+        (vec!["--sigma-t", "0.5", "--vertices", "-2"], "--vertices"),
+        (
+            vec![
+                "--sigma-t",
+                "0.5",
+                "--vertices",
+                "auto",
+                "--max-vertices",
+                "40",
+            ],
+            "--max-vertices = 40",
+        ),
+        (
+            vec!["--sigma-t", "0.5", "--vertices", "2", "--max-vertices", "4"],
+            "--max-vertices = 4 applies to --vertices auto only",
+        ),
+        (
+            vec![
+                "--sigma-t",
+                "0.5",
+                "--vertices",
+                "2",
+                "--technique",
+                "omnee",
+            ],
+            "--technique = omnee applies to --vertices = 1 only",
+        ),
+        (
+            vec!["--sigma-t", "0.5", "--vertices", "3", "--theta-max", "1"],
+            "--theta-max = 1",
+        ),
+        (
+            vec![
+                "--sigma-t",
+                "0.5",
+                "--vertices",
+                "3",
+                "--receiver-normal",
+                "0,0,1",
+            ],
+            "--receiver-normal",
+        ),
+        (
+            vec![
+                "--sigma-t",
+                "0.5",
+                "--vertices",
+                "3",
+                "--phase",
+                "hg:0.5",
+                "--reference",
+            ],
+            "--phase = hg:0.5 has no reference with --vertices = 3",
+        ),
+    ] {
+        let o = omnee().args(base).args(&extra).output().unwrap();
+        assert_eq!(o.status.code(), Some(2), "{extra:?}");
+        assert!(stderr(&o).contains(needle), "{extra:?}: {}", stderr(&o));
+    }
+    // Without --reference any phase function is fine.
+    let v = estimate_only(&[&args[..], &["--vertices", "3"]].concat());
+    assert!(v["mean"].as_f64().unwrap() > 0.0 && v["reference"].is_null());
+}
+
+#[test]
+fn samples_lists_every_vertex_of_a_bridge() {
+    let o = omnee()
+        .args([
+            "samples",
+            "--x0",
+            "0,0,0",
+            "--x2",
+            "0,0,1",
+            "--sigma-s",
+            "0.5",
+            "--sigma-t",
+            "1",
+            "--vertices",
+            "3",
+            "--count",
+            "50",
+            "--format",
+            "json",
+            "--precision",
+            "f64",
+        ])
+        .output()
+        .unwrap();
+    let v = json(&o);
+    assert_eq!(
+        (v["technique"].as_str(), v["vertices"].as_str()),
+        (Some("bridge"), Some("3"))
+    );
+    let list = v["samples"].as_array().unwrap();
+    assert_eq!(list.len() % 3, 0);
+    for draw in list.chunks(3) {
+        let vertex: Vec<u64> = draw.iter().map(|s| s["vertex"].as_u64().unwrap()).collect();
+        assert_eq!(vertex, [0, 1, 2]);
+        assert!(
+            draw.iter()
+                .all(|s| s["draw"] == draw[0]["draw"] && s["pdf"] == draw[0]["pdf"])
+        );
+        assert!(draw[0]["estimate"].as_f64().unwrap() > 0.0);
+    }
+}

@@ -241,3 +241,77 @@ fn a_restricted_integrand_skips_connections_that_cannot_reach_the_slab() {
     assert_eq!(st["skipped_unreachable"], st["connections"]);
     assert_eq!(st["visibility_tests"], 0);
 }
+
+#[test]
+fn the_multiple_term_renders_by_bridges_and_by_path_tracing() {
+    // Off by default; on, a layer of its own by either method, the image
+    // independent of the thread count; its settings are named when bad.
+    let dir = tempfile::tempdir().unwrap();
+    let base = [
+        "render",
+        "--resolution",
+        "16x12",
+        "--spp",
+        "2",
+        "--progress",
+        "never",
+        "--format",
+        "exr",
+        "--terms",
+        "once-more,multiple",
+        "--json",
+    ];
+    let mut layers = Vec::new();
+    for (method, vertices, out) in [
+        ("bridge", "auto", "b"),
+        ("path-tracing", "auto", "p"),
+        ("bridge", "3", "b3"),
+        ("path-tracing", "2", "p2"),
+    ] {
+        let o = run_in(
+            dir.path(),
+            &[
+                &base[..],
+                &["--multiple", method, "--vertices", vertices, "-o", out],
+            ]
+            .concat(),
+        );
+        let v = json(&o);
+        assert_eq!(v["multiple"]["method"], method);
+        assert_eq!(v["multiple"]["vertices"], vertices);
+        let ch = channels(&dir.path().join(format!("{out}.exr")));
+        let m = &ch["multiple.G"];
+        assert!(m.iter().all(|x| x.is_finite() && *x >= 0.0));
+        assert!(m.iter().any(|x| *x > 0.0), "{method} {vertices}");
+        layers.push(m.clone());
+    }
+    let two = run_in(
+        dir.path(),
+        &[
+            &base[..],
+            &["--threads", "2", "--multiple", "bridge", "-o", "b2"],
+        ]
+        .concat(),
+    );
+    assert!(two.status.success(), "{}", stderr(&two));
+    assert_eq!(
+        channels(&dir.path().join("b2.exr"))["multiple.G"],
+        layers[0]
+    );
+    for (extra, needle) in [
+        (vec!["--vertices", "1"], "--vertices = 1"),
+        (
+            vec!["--vertices", "auto", "--max-vertices", "1"],
+            "--max-vertices = 1",
+        ),
+        (
+            vec!["--vertices", "2", "--max-vertices", "4"],
+            "--max-vertices = 4",
+        ),
+        (vec!["--multiple", "photons"], "photons"),
+    ] {
+        let o = run_in(dir.path(), &[&base[..], &extra].concat());
+        assert_eq!(o.status.code(), Some(2), "{extra:?}");
+        assert!(stderr(&o).contains(needle), "{extra:?}: {}", stderr(&o));
+    }
+}

@@ -325,19 +325,34 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
     /// `D^{k+1}` nor `e^{−σt D}` is formed alone (docs/math.md §14.5).
     /// Finite and ≥ 0.
     pub fn estimate(&self, sample: &BridgeSample<F>, medium: &Homogeneous<F>) -> F {
+        let depth = if medium.sigma_t() > F::ZERO {
+            medium.sigma_t() * sample.length
+        } else {
+            F::ZERO
+        };
+        self.estimate_at_depth(sample, medium.sigma_s(), depth)
+    }
+
+    /// The estimate from one bridge whose path has the optical depth
+    /// `tau ≥ 0` (`σt D` in an infinite medium, less where edges leave a
+    /// bounded one) and the scattering coefficient σs at every vertex:
+    /// `σs^k e^{−τ} · weight`, evaluated as [`estimate`](Self::estimate)
+    /// does with `a = (D/s) e^{−τ/(k+1)}` (docs/math.md §14.5, §14.9).
+    /// Finite and ≥ 0 (saturating); 0 for σs ≤ 0.
+    pub fn estimate_at_depth(&self, sample: &BridgeSample<F>, sigma_s: F, tau: F) -> F {
         let (k, s) = (sample.k, self.axis.s);
-        if k == 0 || !(medium.sigma_s() > F::ZERO) {
+        if k == 0 || !(sigma_s > F::ZERO) {
             return F::ZERO;
         }
-        let attenuation = if medium.sigma_t() > F::ZERO {
-            (-medium.sigma_t() * sample.length / F::from_f64((k + 1) as f64)).exp()
+        let attenuation = if tau > F::ZERO {
+            (-tau / F::from_f64((k + 1) as f64)).exp()
         } else {
             F::ONE
         };
         let a = sample.length / s * attenuation;
         let mut value = sample.phase_ratio * a;
         for i in 1..=k {
-            value *= medium.sigma_s() * s * a / F::from_f64(i as f64);
+            value *= sigma_s * s * a / F::from_f64(i as f64);
         }
         saturate(value / s / s)
     }

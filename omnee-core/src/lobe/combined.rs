@@ -5,7 +5,7 @@ use super::{Lobe, LobeRay, Restricted, WithLobe};
 use crate::error::{Error, check_closed};
 use crate::mis::Heuristic;
 use crate::real::Real;
-use crate::sampling::{Connection, Omnee, Sample, Technique, saturate};
+use crate::sampling::{Connection, Omnee, Sample, Technique, Vertex, saturate};
 
 /// One-sample MIS with the balance heuristic (Veach 1997, §9.2.4) of OMNEE
 /// (the lobe in its weight, [`WithLobe`]) and [`LobeRay`], choosing the lobe
@@ -96,42 +96,51 @@ impl<F: Real, L: Lobe<F> + Copy, P: Restricted<F> + Copy> LobeMis<F, L, P> {
 impl<F: Real, L: Lobe<F> + Copy, P: Restricted<F> + Copy> Technique<F> for LobeMis<F, L, P> {
     /// The lobe technique if `u0 < c` (with `u0/c`), else OMNEE (with
     /// `(u0 − c)/(1 − c)`); weight `w · weight_i / c_i` with the balance
-    /// weight `w = c_i p_i / q`, i.e. `k/q`, and pdf `q`. With `c = 0` the
-    /// lobe technique's density is not evaluated.
+    /// weight `w = c_i p_i / q`, i.e. `k/q`, and pdf `q`, the densities
+    /// compared per `L³` of the connection's unit (docs/math.md §15). With
+    /// `c = 0` the lobe technique's density is not evaluated.
     fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
         let c = self.c;
+        let connection = &self.ray.connection;
+        let unit = &connection.axis.unit;
         let u0 = u[0].clamp_to(F::ZERO, F::ONE);
         let (s, own, other) = if u0 < c {
             let v = (u0 / c).min(F::ONE_MINUS_EPSILON);
-            let s = self.ray.sample([v, u[1], u[2]])?;
-            (s, c, (F::ONE - c) * self.omnee.pdf(s.x1))
+            let (s, vertex, own) = self.ray.sample_vertex_unit([v, u[1], u[2]], unit)?;
+            let other = (F::ONE - c) * self.omnee.pdf_vertex_unit(&vertex, unit);
+            (s, c * own, other)
         } else {
             let v = ((u0 - c) / (F::ONE - c)).clamp_to(F::ZERO, F::ONE_MINUS_EPSILON);
-            let s = self.omnee.sample([v, u[1], u[2]])?;
+            let (s, vertex, own) = self.omnee.sample_vertex_unit([v, u[1], u[2]], unit)?;
+            let own = (F::ONE - c) * own;
             let other = if c > F::ZERO {
-                c * self.ray.pdf(s.x1)
+                c * self.ray.pdf_vertex_unit(&vertex, unit)
             } else {
                 F::ZERO
             };
-            (s, F::ONE - c, other)
+            (s, own, other)
         };
-        let mine = own * s.pdf;
-        let w = Heuristic::Balance.weight(mine, [other]);
+        let share = if u0 < c { c } else { F::ONE - c };
+        let w = Heuristic::Balance.weight(own, [other]);
         Some(Sample {
             x1: s.x1,
-            pdf: saturate(mine + other),
-            weight: saturate(w * s.weight / own),
+            pdf: saturate(unit.density_from_unit(own + other)),
+            weight: saturate(w * s.weight / share),
         })
     }
 
-    /// The mixture density `(1 − c) p_OMNEE + c p_lobe`.
+    /// The mixture density `(1 − c) p_OMNEE + c p_lobe`, summed per `L³`.
     fn pdf(&self, x1: F::Vec3) -> F {
-        let omnee = (F::ONE - self.c) * self.omnee.pdf(x1);
-        if self.c > F::ZERO {
-            saturate(omnee + self.c * self.ray.pdf(x1))
+        let connection = &self.ray.connection;
+        let unit = &connection.axis.unit;
+        let vertex = Vertex::at(connection, x1);
+        let omnee = (F::ONE - self.c) * self.omnee.pdf_vertex_unit(&vertex, unit);
+        let total = if self.c > F::ZERO {
+            omnee + self.c * self.ray.pdf_vertex_unit(&vertex, unit)
         } else {
-            saturate(omnee)
-        }
+            omnee
+        };
+        saturate(unit.density_from_unit(total))
     }
 
     /// Not invertible: both techniques reach every point.

@@ -82,8 +82,8 @@ pub use restricted::Restricted;
 
 use crate::error::Error;
 use crate::phase::{Deflection, PhaseFunction};
-use crate::real::{Real, Vector};
-use crate::sampling::{Sample, Technique, saturate};
+use crate::real::{Real, Vector, unit_vector};
+use crate::sampling::{Omnee, Sample, Technique, Unit, Vertex, saturate, unit_normal};
 
 /// A direction drawn from a [`Lobe`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -146,21 +146,9 @@ impl<F: Real, P: PhaseFunction<F>> PhaseLobe<F, P> {
     /// direction: towards `x0`), normalised here; it must be finite and
     /// non-zero (field `"incoming"`).
     pub fn new(phase: P, incoming: F::Vec3) -> Result<Self, Error> {
-        if !incoming.is_finite() {
-            return Err(Error::NotFinite { field: "incoming" });
-        }
-        // Scaled by its largest component first, so that neither 1e30 nor
-        // 1e-30 over- or underflows on the way to unit length.
-        let [x, y, z] = incoming.to_array();
-        let largest = x.abs().max(y.abs()).max(z.abs());
-        if !(largest > F::ZERO) {
-            return Err(Error::Degenerate {
-                field: "incoming",
-                reason: "must be non-zero",
-            });
-        }
-        let scaled = incoming * (F::ONE / largest);
-        let incoming = scaled * (F::ONE / scaled.length());
+        // Any finite, non-zero length: neither 1e30 nor 1e-45 over- or
+        // underflows on the way to unit length.
+        let incoming = unit_normal::<F>(incoming, "incoming")?;
         let (tangent, bitangent) = incoming.orthonormal_pair();
         Ok(Self {
             phase,
@@ -272,16 +260,15 @@ impl<F: Real, L: Lobe<F> + ?Sized> Lobe<F> for &L {
     }
 }
 
-/// The lobe at `x0` evaluated towards `x1`, `eval((x1 − x0)/d1)`; 0 where
-/// `x1` is `x0` or not finite.
+/// The lobe at `x0` evaluated towards `x1`, `eval((x1 − x0)/d1)` with the
+/// direction normalised at any length ([`unit_vector`]); 0 where `x1` is
+/// `x0` or `x1 − x0` is not finite.
 #[inline]
 fn eval_towards<F: Real, L: Lobe<F>>(lobe: &L, x0: F::Vec3, x1: F::Vec3) -> F {
-    let a = x1 - x0;
-    let d1 = a.length();
-    if !(d1 > F::ZERO && d1.is_finite()) {
-        return F::ZERO;
+    match unit_vector::<F>(x1 - x0) {
+        Some(omega) => lobe.eval(omega),
+        None => F::ZERO,
     }
-    lobe.eval(a * (F::ONE / d1))
 }
 
 /// A technique of [`crate::sampling`] (OMNEE, equiangular, ...) used for the
@@ -315,6 +302,24 @@ impl<F: Real, T: Technique<F>, L: Lobe<F>> WithLobe<F, T, L> {
     }
 }
 
+impl<F: Real, P: PhaseFunction<F>, L: Lobe<F>> WithLobe<F, Omnee<F, P>, L> {
+    /// OMNEE's sample with its vertex and the density per `L³` of `unit` it
+    /// was drawn with, the lobe in its weight (for [`LobeMis`]).
+    #[inline]
+    pub(crate) fn sample_vertex_unit(
+        &self,
+        u: [F; 3],
+        unit: &Unit<F>,
+    ) -> Option<(Sample<F>, Vertex<F>, F)> {
+        let (s, v, density) = self.technique.sample_vertex_unit(u, unit)?;
+        let s = Sample {
+            weight: saturate(s.weight * self.lobe_at(s.x1)),
+            ..s
+        };
+        Some((s, v, density))
+    }
+}
+
 impl<F: Real, T: Technique<F>, L: Lobe<F>> Technique<F> for WithLobe<F, T, L> {
     /// The technique's sample, its weight times `p0(ω01)`.
     #[inline]
@@ -329,6 +334,16 @@ impl<F: Real, T: Technique<F>, L: Lobe<F>> Technique<F> for WithLobe<F, T, L> {
     #[inline]
     fn pdf(&self, x1: F::Vec3) -> F {
         self.technique.pdf(x1)
+    }
+    /// The technique's density at a vertex.
+    #[inline]
+    fn pdf_vertex(&self, v: &Vertex<F>) -> F {
+        self.technique.pdf_vertex(v)
+    }
+    /// The technique's density per `L³`.
+    #[inline]
+    fn pdf_vertex_unit(&self, v: &Vertex<F>, unit: &Unit<F>) -> F {
+        self.technique.pdf_vertex_unit(v, unit)
     }
     /// The technique's inverse.
     #[inline]

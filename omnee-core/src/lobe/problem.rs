@@ -4,7 +4,7 @@
 use super::Lobe;
 use crate::error::Error;
 use crate::phase::{Deflection, PhaseFunction};
-use crate::quadrature::integrate_geometric;
+use crate::quadrature::Budget;
 use crate::real::{Real, sinc};
 use crate::reference::PointToPoint;
 use crate::sampling::Sample;
@@ -75,8 +75,21 @@ impl<F: Real, L: Lobe<F>> LobeToPoint<F, L> {
 }
 
 impl<L: Lobe<f64>> LobeToPoint<f64, L> {
+    /// The integrand evaluations [`Self::try_integral`] may spend with a
+    /// lobe: about three times the 3.5·10⁷ a θmax = π problem takes (a
+    /// minute at most on one core); without a lobe
+    /// [`PointToPoint::BUDGET`] applies.
+    pub const BUDGET: u64 = 100_000_000;
+
+    /// The reference value of `I` ([`Self::try_integral`]), or NaN if the
+    /// quadrature did not converge within its budget.
+    pub fn integral<P: PhaseFunction<f64>>(&self, phase: &P) -> f64 {
+        self.try_integral(phase).unwrap_or(f64::NAN)
+    }
+
     /// The reference value of `I` by quadrature (without a lobe,
-    /// [`PointToPoint::integral`]). In the angles α (at `x0`), θ and φ of
+    /// [`PointToPoint::try_integral`]), or `Error::NotConverged` (field
+    /// `"reference"`) once [`Self::BUDGET`] evaluations are spent. In the angles α (at `x0`), θ and φ of
     /// [`crate::circumcircle`], where `dβ dθ = dα dθ`,
     ///
     /// `I = (σs/s) ∫₀^θmax Φ0(α) ∫_α^θmax p1(θ) e^{−σt (d1 + d2)} dθ dα`,
@@ -89,10 +102,17 @@ impl<L: Lobe<f64>> LobeToPoint<f64, L> {
     /// azimuth and its opposite, α towards 0 and the lobe's angle γ with the
     /// axis and π − γ. About 3.5e7 evaluations for θmax = π (4–10 s on the
     /// shared 2-core machine), relative accuracy about 1e-9 for smooth lobes.
-    pub fn integral<P: PhaseFunction<f64>>(&self, phase: &P) -> f64 {
+    pub fn try_integral<P: PhaseFunction<f64>>(&self, phase: &P) -> Result<f64, Error> {
         let Some(lobe) = &self.lobe else {
-            return self.point.integral(phase);
+            return self.point.try_integral(phase);
         };
+        let budget = Budget::new(Self::BUDGET);
+        let value = self.lobe_integral(lobe, phase, &budget);
+        budget.finish("reference", value)
+    }
+
+    /// The quadrature of [`Self::try_integral`] with a lobe, against `budget`.
+    fn lobe_integral<P: PhaseFunction<f64>>(&self, lobe: &L, phase: &P, budget: &Budget) -> f64 {
         let axis = &self.point.connection.axis;
         let (s, theta_max) = (axis.s, self.point.connection.theta_max);
         let sigma_t = self.point.medium.sigma_t();
@@ -123,8 +143,14 @@ impl<L: Lobe<f64>> LobeToPoint<f64, L> {
             // θmax: near θ = π the path is long except in a layer of width
             // about α next to π.
             let mid = 0.5 * (alpha + theta_max);
-            integrate_geometric(&f, alpha, mid, LEVELS, tol_theta)
-                + integrate_geometric(|t| f(theta_max + alpha - t), alpha, mid, LEVELS, tol_theta)
+            budget.integrate_geometric(&f, alpha, mid, LEVELS, tol_theta)
+                + budget.integrate_geometric(
+                    |t| f(theta_max + alpha - t),
+                    alpha,
+                    mid,
+                    LEVELS,
+                    tol_theta,
+                )
         };
 
         // Φ0(α) as ∫₀^π h(φ_in + ψ) + h(φ_in − ψ) dψ, panels towards ψ = 0
@@ -140,8 +166,8 @@ impl<L: Lobe<f64>> LobeToPoint<f64, L> {
             };
             let g = |psi: f64| h(phi_in + psi) + h(phi_in - psi);
             let half = core::f64::consts::FRAC_PI_2;
-            integrate_geometric(g, 0.0, half, LEVELS, tol_phi)
-                + integrate_geometric(
+            budget.integrate_geometric(g, 0.0, half, LEVELS, tol_phi)
+                + budget.integrate_geometric(
                     |psi| g(core::f64::consts::PI - psi),
                     0.0,
                     half,
@@ -157,14 +183,15 @@ impl<L: Lobe<f64>> LobeToPoint<f64, L> {
                 0.0
             }
         };
-        self.point.medium.sigma_s() / s * split_integral(&over_alpha, theta_max, gamma, tol_alpha)
+        self.point.medium.sigma_s() / s
+            * split_integral(&over_alpha, theta_max, gamma, tol_alpha, budget)
     }
 }
 
 /// `∫₀^b f(α) dα` split at γ and π − γ (those inside), every piece halved
 /// and each half integrated with geometric panels towards its outer end, so
 /// that a peak at 0, at b or at a split point is resolved.
-fn split_integral(f: &dyn Fn(f64) -> f64, b: f64, gamma: f64, tol: f64) -> f64 {
+fn split_integral(f: &dyn Fn(f64) -> f64, b: f64, gamma: f64, tol: f64, budget: &Budget) -> f64 {
     let pi = core::f64::consts::PI;
     let cuts = [
         0.0,
@@ -179,8 +206,8 @@ fn split_integral(f: &dyn Fn(f64) -> f64, b: f64, gamma: f64, tol: f64) -> f64 {
             continue;
         }
         let mid = 0.5 * (lo + hi);
-        sum += integrate_geometric(f, lo, mid, LEVELS, tol)
-            + integrate_geometric(|x| f(hi - x + lo), lo, mid, LEVELS, tol);
+        sum += budget.integrate_geometric(f, lo, mid, LEVELS, tol)
+            + budget.integrate_geometric(|x| f(hi - x + lo), lo, mid, LEVELS, tol);
     }
     sum
 }

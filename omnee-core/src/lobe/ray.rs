@@ -5,7 +5,7 @@ use super::{Lobe, Restricted};
 use crate::circumcircle::Triangle;
 use crate::phase::Deflection;
 use crate::real::{Real, Vector};
-use crate::sampling::{Connection, Sample, Technique, saturate};
+use crate::sampling::{Connection, Sample, Technique, Unit, Vertex, in_unit, saturate};
 
 /// Sampling `x1` through the lobe at `x0`.
 ///
@@ -55,17 +55,20 @@ impl<F: Real, L: Lobe<F>, P: Restricted<F>> LobeRay<F, L, P> {
         }
     }
 
-    /// α between the axis and `x1 − x0 = a` (length `d1`).
+    /// α between the axis and `x1 − x0 = a` (length `d1`), both in the
+    /// connection's unit.
     #[inline]
     fn alpha(&self, a: F::Vec3, d1: F) -> Deflection<F> {
         let axis = &self.connection.axis;
-        Deflection::between_segments(axis.x2 - axis.x0, axis.s, a, d1)
+        let e_unit = (axis.x2 - axis.x0) * axis.unit.inverse;
+        Deflection::between_segments(e_unit, axis.s_unit, a, d1)
     }
 
-    /// `pdf_ω · 2π p1(θ) sin θ · s sin α / (M d1² d2²)`, in an order that
-    /// neither overflows nor underflows for s from 1e-6 to 1e6 in f32.
+    /// `pdf_ω · 2π p1(θ) sin θ · s sin α / (M d1² d2²)` per `L³`, with
+    /// `s`, `d1`, `d2` in the connection's unit (docs/math.md §15); not
+    /// saturated.
     #[inline]
-    fn density(
+    fn density_unit(
         &self,
         pdf_omega: F,
         theta: Deflection<F>,
@@ -76,7 +79,27 @@ impl<F: Real, L: Lobe<F>, P: Restricted<F>> LobeRay<F, L, P> {
     ) -> F {
         let r = F::ONE / (d1 * d2);
         let angular = F::TAU * self.phase.pdf(theta) * theta.sin() / mass;
-        saturate(pdf_omega * angular * (self.connection.axis.s * alpha.sin()) * r * r)
+        pdf_omega * angular * (self.connection.axis.s_unit * alpha.sin()) * r * r
+    }
+
+    /// The density per `L³` of the connection's unit at `x1` (not
+    /// saturated): `pdf_ω · 2π p1(θ) sin θ · s sin α / (M d1² d2²)`, 0 for
+    /// θ ≥ θmax, `M = 0` and at the end points.
+    fn pdf_own_unit(&self, x1: F::Vec3) -> F {
+        let Some((theta, d1, d2)) = self.connection.deflection_unit(x1) else {
+            return F::ZERO;
+        };
+        if !(theta.theta < self.connection.theta_max) {
+            return F::ZERO;
+        }
+        let a = self.connection.axis.from_x0_unit(x1);
+        let alpha = self.alpha(a, d1);
+        let mass = self.phase.mass_between(alpha, self.theta_max);
+        if !(mass > F::ZERO) {
+            return F::ZERO;
+        }
+        let pdf_omega = self.lobe.pdf(a * (F::ONE / d1));
+        self.density_unit(pdf_omega, theta, alpha, mass, d1, d2)
     }
 }
 
@@ -96,13 +119,10 @@ fn beta<F: Real>(alpha: Deflection<F>, theta: Deflection<F>) -> F {
     beta.max(F::ZERO)
 }
 
-impl<F: Real, L: Lobe<F>, P: Restricted<F>> Technique<F> for LobeRay<F, L, P> {
-    /// ω from `(u0, u1)` by the lobe, θ from `u2` by `p1` restricted to
-    /// `[α, θmax)`, `β = θ − α`, `x1 = x0 + d1 ω` with `d1` from
-    /// [`Triangle::solve`]; weight `(eval/pdf_ω) M / (2π s sin α sin θ)`.
-    /// `None` for a ray along the axis (sin α = 0), an empty restriction
-    /// (`M = 0`) or `x1` on an end point.
-    fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
+impl<F: Real, L: Lobe<F>, P: Restricted<F>> LobeRay<F, L, P> {
+    /// [`Technique::sample`] with its density per `L³` of the connection's
+    /// unit (not saturated).
+    fn sample_unit(&self, u: [F; 3]) -> Option<(Sample<F>, F)> {
         let axis = &self.connection.axis;
         let dir = self.lobe.sample([u[0], u[1]])?;
         let alpha = Deflection::between(axis.e, dir.omega);
@@ -119,51 +139,82 @@ impl<F: Real, L: Lobe<F>, P: Restricted<F>> Technique<F> for LobeRay<F, L, P> {
         } else {
             F::ZERO
         };
-        let triangle = Triangle::solve(axis.s, theta, ratio)?;
+        // The triangle in the connection's unit, d1 then in metres.
+        let triangle = Triangle::solve(axis.s_unit, theta, ratio)?;
         let (d1, d2) = (triangle.d1, triangle.d2);
         if !(d1 > F::ZERO && d2 > F::ZERO) {
             return None;
         }
-        let x1 = axis.x0 + dir.omega * d1;
+        let x1 = axis.x0 + dir.omega * (d1 * axis.unit.length);
         if !x1.is_finite() {
             return None;
         }
-        let sines = F::TAU * axis.s * alpha.sin() * theta.sin();
-        Some(Sample {
+        let sines = F::TAU * axis.s_unit * alpha.sin() * theta.sin();
+        let density = self.density_unit(dir.pdf, theta, alpha, mass, d1, d2);
+        let sample = Sample {
             x1,
-            pdf: self.density(dir.pdf, theta, alpha, mass, d1, d2),
-            weight: saturate(dir.value / dir.pdf * mass / sines),
-        })
+            pdf: saturate(axis.unit.density_from_unit(density)),
+            weight: saturate(dir.value / dir.pdf * mass / sines * axis.unit.inverse),
+        };
+        Some((sample, density))
+    }
+}
+
+impl<F: Real, L: Lobe<F>, P: Restricted<F>> LobeRay<F, L, P> {
+    /// The sample with its vertex and the density per `L³` of `unit` it
+    /// was drawn with (for [`super::LobeMis`]).
+    pub(crate) fn sample_vertex_unit(
+        &self,
+        u: [F; 3],
+        unit: &Unit<F>,
+    ) -> Option<(Sample<F>, Vertex<F>, F)> {
+        let (s, density) = self.sample_unit(u)?;
+        let own = &self.connection.axis.unit;
+        Some((
+            s,
+            Vertex::at(&self.connection, s.x1),
+            in_unit(density, own, unit),
+        ))
+    }
+}
+
+impl<F: Real, L: Lobe<F>, P: Restricted<F>> Technique<F> for LobeRay<F, L, P> {
+    /// ω from `(u0, u1)` by the lobe, θ from `u2` by `p1` restricted to
+    /// `[α, θmax)`, `β = θ − α`, `x1 = x0 + d1 ω` with `d1` from
+    /// [`Triangle::solve`] in the connection's unit; weight
+    /// `(eval/pdf_ω) M / (2π s sin α sin θ)`. `None` for a ray along the
+    /// axis (sin α = 0), an empty restriction (`M = 0`) or `x1` on an end
+    /// point.
+    fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
+        self.sample_unit(u).map(|(s, _)| s)
     }
 
     /// `pdf_ω(ω) · 2π p1(θ) sin θ · s sin α / (M d1² d2²)` with ω, α from
     /// `x1 − x0` and θ between `ω1` and `ω2` ([`Connection::deflection`]);
     /// 0 for θ ≥ θmax, `M = 0` and at the end points.
     fn pdf(&self, x1: F::Vec3) -> F {
-        let Some((theta, d1, d2)) = self.connection.deflection(x1) else {
-            return F::ZERO;
-        };
-        if !(theta.theta < self.connection.theta_max) {
-            return F::ZERO;
-        }
-        let a = x1 - self.connection.axis.x0;
-        let alpha = self.alpha(a, d1);
-        let mass = self.phase.mass_between(alpha, self.theta_max);
-        if !(mass > F::ZERO) {
-            return F::ZERO;
-        }
-        let pdf_omega = self.lobe.pdf(a * (F::ONE / d1));
-        self.density(pdf_omega, theta, alpha, mass, d1, d2)
+        saturate(
+            self.connection
+                .axis
+                .unit
+                .density_from_unit(self.pdf_own_unit(x1)),
+        )
+    }
+
+    /// The density per `L³` of `unit` at the vertex's point, computed in
+    /// the connection's own unit.
+    fn pdf_vertex_unit(&self, v: &Vertex<F>, unit: &Unit<F>) -> F {
+        in_unit(self.pdf_own_unit(v.x1), &self.connection.axis.unit, unit)
     }
 
     /// The lobe's `(u0, u1)` for ω and `u2 = (P1(θ) − P1(α))/M`; `None`
     /// where the lobe or the restricted phase function is not invertible.
     fn invert(&self, x1: F::Vec3) -> Option<[F; 3]> {
-        let (theta, d1, _) = self.connection.deflection(x1)?;
+        let (theta, d1, _) = self.connection.deflection_unit(x1)?;
         if !(theta.theta < self.connection.theta_max) {
             return None;
         }
-        let a = x1 - self.connection.axis.x0;
+        let a = self.connection.axis.from_x0_unit(x1);
         let [u0, u1] = self.lobe.invert(a * (F::ONE / d1))?;
         let u2 = self
             .phase

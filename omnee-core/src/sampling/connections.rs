@@ -13,7 +13,7 @@
 //! how the f32 lanes are computed.
 
 use super::batch::clamp_unit;
-use super::{Connection, Equiangular, Omnee, Sample, Technique, Uniforms, saturate};
+use super::{Connection, Equiangular, Omnee, Sample, Technique, Uniforms, Unit, saturate};
 use crate::error::Error;
 use crate::lobe::{LobeMis, PhaseLobe, Restricted};
 use crate::method::Setup;
@@ -685,6 +685,7 @@ impl<'a, F: Real> Connections<'a, F> {
         let (sin_small, cos_small) = (&mut lanes.sin_small[..n], &mut lanes.cos_small[..n]);
         let (sin_phi, cos_phi) = (&mut lanes.sin_phi[..n], &mut lanes.cos_phi[..n]);
         let scalar = &mut lanes.scalar[..n];
+        let band = Unit::<F>::band();
         let mut g = 0;
         while g < n {
             let end = n.min(g + GROUP);
@@ -702,6 +703,9 @@ impl<'a, F: Real> Connections<'a, F> {
             for i in g..end {
                 s[i] = s[i].sqrt();
                 sin_theta[i] = sin_theta[i].sqrt();
+                // A connection outside the band of unit 1 (docs/math.md
+                // §15.2) is drawn by the scalar sampler, which scales by L.
+                scalar[i] |= !(s[i] >= band.0 && s[i] < band.1);
             }
             g = end;
         }

@@ -2,7 +2,22 @@
 //! about a normal, each as a sample / pdf / invert trio.
 
 use crate::error::Error;
-use crate::real::{Real, Vector};
+use crate::real::{Real, Vector, unit_vector};
+
+/// The unit vector along a normal or direction given with any finite,
+/// non-zero length ([`unit_vector`]: scaled by its largest component's
+/// power of two first, so neither `|n|²` nor `1/|n|` over- or underflows).
+/// Fails with `NotFinite` for a NaN or infinite component and `Degenerate`
+/// ("must be finite and non-zero") for the zero vector, naming `field`.
+pub fn unit_normal<F: Real>(n: F::Vec3, field: &'static str) -> Result<F::Vec3, Error> {
+    if !n.is_finite() {
+        return Err(Error::NotFinite { field });
+    }
+    unit_vector::<F>(n).ok_or(Error::Degenerate {
+        field,
+        reason: "must be finite and non-zero",
+    })
+}
 
 /// How a ray direction ω leaving `x2` is drawn.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -21,17 +36,12 @@ pub enum Directions<F: Real> {
 }
 
 impl<F: Real> Directions<F> {
-    /// Cosine-weighted directions about `normal` (normalised here; must be
-    /// finite and non-zero).
+    /// Cosine-weighted directions about `normal`, normalised here
+    /// ([`unit_normal`]): any finite, non-zero length (1e-45 or `F::MAX`
+    /// per component alike). A NaN or infinite component is `NotFinite`, a
+    /// zero normal `Degenerate` (field `"normal"`).
     pub fn cosine(normal: F::Vec3) -> Result<Self, Error> {
-        let len = normal.length();
-        if !(len > F::ZERO && len.is_finite()) {
-            return Err(Error::Degenerate {
-                field: "normal",
-                reason: "must be finite and non-zero",
-            });
-        }
-        let normal = normal * (F::ONE / len);
+        let normal = unit_normal::<F>(normal, "normal")?;
         let (tangent, bitangent) = normal.orthonormal_pair();
         Ok(Directions::Cosine {
             normal,

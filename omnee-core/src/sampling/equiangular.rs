@@ -1,7 +1,7 @@
 //! Equiangular sampling (Kulla & Fajardo 2012) along a ray from the receiver:
 //! the baseline OMNEE is measured against.
 
-use super::{Connection, Directions, Sample, Technique, Vertex, saturate};
+use super::{Connection, Directions, Sample, Technique, Unit, Vertex, in_unit, saturate};
 use crate::medium::Region;
 use crate::phase::{Deflection, PhaseFunction};
 use crate::real::{Real, Vector};
@@ -20,6 +20,11 @@ use crate::real::{Real, Vector};
 ///
 /// In the volume measure `pdf(x1) = pdf_ω(ω) · c / (d1² d2²)`, and the weight
 /// `k/pdf = p(θ) / (pdf_ω(ω) · c)` is free of every 1/d² factor.
+///
+/// The line's lengths (`Δ`, `D`, `a`, `b`, `t`, `v`, `c`) are all measured
+/// in the connection's [`Unit`](super::Unit) `L`: `D² + ab` and `d1² d2²`
+/// stay in range at any scale, and the density per `L³` and the weight per
+/// `1/L` are scaled back once (docs/math.md §15).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Equiangular<F: Real, P> {
     /// The end points and θmax.
@@ -33,7 +38,7 @@ pub struct Equiangular<F: Real, P> {
 }
 
 /// The ray `x2 + t ω` restricted to the medium segment `[t_a, t_b]`, relative
-/// to the foot of `x0`.
+/// to the foot of `x0`, every length in the connection's unit.
 #[derive(Clone, Copy, Debug)]
 struct Line<F: Real> {
     /// The segment `[t_a, t_b]` (t_b may be ∞).
@@ -53,8 +58,8 @@ struct Line<F: Real> {
 }
 
 impl<F: Real> Line<F> {
-    fn new(x0: F::Vec3, x2: F::Vec3, omega: F::Vec3, segment: (F, F)) -> Option<Self> {
-        let to_light = x0 - x2;
+    /// The line along ω from `x2`, with `to_light = x0 − x2`.
+    fn new(to_light: F::Vec3, omega: F::Vec3, segment: (F, F)) -> Option<Self> {
         Self::from_foot(to_light.dot(omega), to_light.cross(omega), segment)
     }
 
@@ -174,9 +179,11 @@ impl<F: Real, P: PhaseFunction<F>> Equiangular<F, P> {
         }
     }
 
-    /// The sample of [`Technique::sample`] with the vertex's offsets.
-    fn sample_with_offsets(&self, u: [F; 3]) -> Option<(Sample<F>, Vertex<F>)> {
+    /// The sample of [`Technique::sample`] with the vertex's offsets and
+    /// its density per `L³` (not saturated).
+    fn sample_with_offsets(&self, u: [F; 3]) -> Option<(Sample<F>, Vertex<F>, F)> {
         let axis = &self.connection.axis;
+        let unit = &axis.unit;
         let omega = self.directions.sample([u[0], u[1]]);
         let pdf_omega = self.directions.pdf(omega);
         let line = self.line(omega)?;
@@ -184,7 +191,14 @@ impl<F: Real, P: PhaseFunction<F>> Equiangular<F, P> {
         if !(t > F::ZERO && t.is_finite() && pdf_omega > F::ZERO) {
             return None;
         }
-        let x1 = axis.x2 + omega * t;
+        let t_metres = t * unit.length;
+        if !t_metres.is_finite() {
+            return None;
+        }
+        let x1 = axis.x2 + omega * t_metres;
+        if !x1.is_finite() {
+            return None; // beyond the largest number
+        }
         // x1 − x0 = v ω − (x0 − foot), the perpendicular x0 − foot being
         // ω × ((x0 − x2) × ω): no cancellation next to the light.
         let from_x0 = omega * v - omega.cross(line.cross);
@@ -195,25 +209,27 @@ impl<F: Real, P: PhaseFunction<F>> Equiangular<F, P> {
         let d = Deflection::between_segments(from_x0, d1, -omega, F::ONE);
         let r = F::ONE / (d1 * t);
         let weight = if d.theta < self.connection.theta_max {
-            saturate(self.phase.eval(d) / (pdf_omega * line.c))
+            saturate(self.phase.eval(d) / (pdf_omega * line.c) * unit.inverse)
         } else {
             F::ZERO
         };
+        let density = pdf_omega * line.c * r * r;
         let sample = Sample {
             x1,
-            pdf: saturate(pdf_omega * line.c * r * r),
+            pdf: saturate(unit.density_from_unit(density)),
             weight,
         };
         let vertex = Vertex {
             x1,
-            from_x0,
-            from_x2: omega * t,
+            from_x0: from_x0 * unit.length,
+            from_x2: omega * t_metres,
         };
-        Some((sample, vertex))
+        Some((sample, vertex, density))
     }
 
-    /// `pdf_ω(ω) · c / (d1² d2²)` at `x1 = x2 + to_x1` with `d1 = |x1 − x0|`,
-    /// inside the medium segment, else 0.
+    /// `pdf_ω(ω) · c / (d1² d2²)` per `L³` at `x1 = x2 + to_x1` with
+    /// `d1 = |x1 − x0|` (both in the unit), inside the medium segment, else
+    /// 0 (not saturated: ∞ where it overflows).
     fn density(&self, to_x1: F::Vec3, d1: F) -> F {
         let t = to_x1.length();
         if !(t > F::ZERO && d1 > F::ZERO && t.is_finite()) {
@@ -227,17 +243,46 @@ impl<F: Real, P: PhaseFunction<F>> Equiangular<F, P> {
             return F::ZERO;
         }
         let r = F::ONE / (d1 * t);
-        saturate(self.directions.pdf(omega) * line.c * r * r)
+        self.directions.pdf(omega) * line.c * r * r
     }
 
+    /// The line of the ray along ω, in the connection's unit.
     fn line(&self, omega: F::Vec3) -> Option<Line<F>> {
         let axis = &self.connection.axis;
+        let inverse = axis.unit.inverse;
+        let (ta, tb) = self.region.segment(axis.x2, omega)?;
         Line::new(
-            axis.x0,
-            axis.x2,
+            (axis.x0 - axis.x2) * inverse,
             omega,
-            self.region.segment(axis.x2, omega)?,
+            (ta * inverse, tb * inverse),
         )
+    }
+
+    /// [`Technique::pdf_vertex_unit`] per `L³` of the connection's own
+    /// unit (not saturated), with `t ω = v.from_x2`, `d1 = |v.from_x0|` and the ray's line
+    /// from the offsets (`Line::at_vertex`), all divided by `L`.
+    fn pdf_vertex_own_unit(&self, v: &Vertex<F>) -> F {
+        let axis = &self.connection.axis;
+        let inverse = axis.unit.inverse;
+        let (from_x0, from_x2) = (v.from_x0 * inverse, v.from_x2 * inverse);
+        let t = from_x2.length();
+        let d1 = from_x0.length();
+        if !(t > F::ZERO && d1 > F::ZERO && t.is_finite()) {
+            return F::ZERO;
+        }
+        let omega = from_x2 * (F::ONE / t);
+        let line = self
+            .region
+            .segment(axis.x2, omega)
+            .and_then(|(ta, tb)| Line::at_vertex(from_x0, t, omega, (ta * inverse, tb * inverse)));
+        let Some(line) = line else {
+            return F::ZERO;
+        };
+        if !(t >= line.ta && t <= line.tb) {
+            return F::ZERO;
+        }
+        let r = F::ONE / (d1 * t);
+        self.directions.pdf(omega) * line.c * r * r
     }
 }
 
@@ -246,48 +291,46 @@ impl<F: Real, P: PhaseFunction<F>> Technique<F> for Equiangular<F, P> {
     /// segment (tangent addition from the nearer end); `d1 = |v ω − (x0 − foot)|`, `d2 = t`.
     /// Each `u` is clamped to [0, 1] (NaN to 0).
     fn sample(&self, u: [F; 3]) -> Option<Sample<F>> {
-        self.sample_with_offsets(u).map(|(s, _)| s)
+        self.sample_with_offsets(u).map(|(s, _, _)| s)
     }
 
     /// [`sample`](Technique::sample) with `x1 − x2 = t ω` and
     /// `x1 − x0 = v ω − (x0 − foot)` as computed.
     fn sample_vertex(&self, u: [F; 3], _: &Connection<F>) -> Option<(Sample<F>, Vertex<F>)> {
-        self.sample_with_offsets(u)
+        self.sample_with_offsets(u).map(|(s, v, _)| (s, v))
     }
 
     /// `pdf_ω(ω) · c / (d1² d2²)` for `x1` inside the medium segment, else 0.
     fn pdf(&self, x1: F::Vec3) -> F {
         let axis = &self.connection.axis;
-        self.density(x1 - axis.x2, (x1 - axis.x0).length())
+        let density = self.density(axis.from_x2_unit(x1), axis.from_x0_unit(x1).length());
+        saturate(axis.unit.density_from_unit(density))
     }
 
     /// [`pdf`](Technique::pdf) with `t ω = v.from_x2`, `d1 = |v.from_x0|` and
     /// the ray's line from the offsets (`Line::at_vertex`).
     fn pdf_vertex(&self, v: &Vertex<F>) -> F {
-        let t = v.from_x2.length();
-        let d1 = v.from_x0.length();
-        if !(t > F::ZERO && d1 > F::ZERO && t.is_finite()) {
-            return F::ZERO;
-        }
-        let omega = v.from_x2 * (F::ONE / t);
-        let axis = &self.connection.axis;
-        let line = self
-            .region
-            .segment(axis.x2, omega)
-            .and_then(|segment| Line::at_vertex(v.from_x0, t, omega, segment));
-        let Some(line) = line else {
-            return F::ZERO;
-        };
-        if !(t >= line.ta && t <= line.tb) {
-            return F::ZERO;
-        }
-        let r = F::ONE / (d1 * t);
-        saturate(self.directions.pdf(omega) * line.c * r * r)
+        saturate(
+            self.connection
+                .axis
+                .unit
+                .density_from_unit(self.pdf_vertex_own_unit(v)),
+        )
+    }
+
+    /// The density per `L³` of `unit`, computed in the connection's own
+    /// unit and converted by the power of two between them.
+    fn pdf_vertex_unit(&self, v: &Vertex<F>, unit: &Unit<F>) -> F {
+        in_unit(
+            self.pdf_vertex_own_unit(v),
+            &self.connection.axis.unit,
+            unit,
+        )
     }
 
     /// `(u0, u1)` from the direction, `u2` from the equiangular angle.
     fn invert(&self, x1: F::Vec3) -> Option<[F; 3]> {
-        let to_x1 = x1 - self.connection.axis.x2;
+        let to_x1 = self.connection.axis.from_x2_unit(x1);
         let t = to_x1.length();
         if !(t > F::ZERO && t.is_finite()) {
             return None;

@@ -37,11 +37,13 @@ pub use batch::{Uniforms, Vertices};
 pub use connections::{
     CHUNK, Connections, Deflections, PhaseBatch, Points, PointsMut, SampleArrays,
 };
-pub use directions::Directions;
+pub use directions::{Directions, unit_normal};
 pub use distance::Distance;
 pub use draw::Draw;
 pub use equiangular::Equiangular;
 pub use omnee::Omnee;
+
+pub use crate::circumcircle::Unit;
 
 use crate::circumcircle::Axis;
 use crate::error::{Error, check_closed};
@@ -99,6 +101,19 @@ pub trait Technique<F: Real> {
     #[inline]
     fn pdf_vertex(&self, v: &Vertex<F>) -> F {
         self.pdf(v.x1)
+    }
+
+    /// [`pdf_vertex`](Self::pdf_vertex) per `L³` for the length unit
+    /// `unit` (a connection's [`Unit`]), `pdf · L³`: the density MIS
+    /// compares, finite wherever the ratio of two techniques' densities is,
+    /// at any scale (docs/math.md §15). The default scales the volume
+    /// density, which is right wherever that is representable; the core's
+    /// techniques evaluate their formulas with every length in the unit, so
+    /// that their densities are right where `pdf` itself over- or underflows
+    /// (`s` beyond about 1e±12 in f32).
+    #[inline]
+    fn pdf_vertex_unit(&self, v: &Vertex<F>, unit: &Unit<F>) -> F {
+        unit.density_to_unit(self.pdf_vertex(v))
     }
 
     /// [`sample`](Self::sample) with uniform numbers from a `rand_core` generator.
@@ -163,16 +178,19 @@ pub struct Connection<F: Real> {
 
 impl<F: Real> Connection<F> {
     /// The connection from `x0` (light side) to `x2` (receiver side),
-    /// restricted to θ < `theta_max` ∈ (0, π]. Fails on non-finite or
-    /// coincident points and on θmax outside (0, π].
+    /// restricted to θ < `theta_max` ∈ (0, π] (any positive θmax, the
+    /// smallest subnormal included). Fails on non-finite or coincident
+    /// points, on a distance above `F::MAX` ([`Axis::new`]) and on θmax
+    /// outside (0, π].
     pub fn new(x0: F::Vec3, x2: F::Vec3, theta_max: F) -> Result<Self, Error> {
         let axis = Axis::new(x0, x2)?;
-        // (0, π], where the precision's rounded π counts as π.
+        // (0, π], where the precision's rounded π counts as π; the lower
+        // bound is the smallest positive number of either precision.
         let pi = F::PI.to_f64().max(core::f64::consts::PI);
         check_closed(
             "theta_max",
             theta_max.to_f64(),
-            f64::MIN_POSITIVE,
+            f64::from_bits(1),
             pi,
             "(0, pi]",
         )?;
@@ -190,15 +208,26 @@ impl<F: Real> Connection<F> {
 
     /// The deflection at `x1`: θ between `ω1 = (x1 − x0)/d1` and
     /// `ω2 = (x2 − x1)/d2` in cancellation-free form, with `(d1, d2)`;
-    /// `None` if `x1` coincides with an end point or is not finite.
+    /// `None` if `x1` coincides with an end point or is not finite. The
+    /// offsets are formed in the connection's [`Unit`], so that `d1`, `d2`
+    /// are right wherever they are finite.
     #[inline]
     pub fn deflection(&self, x1: F::Vec3) -> Option<(Deflection<F>, F, F)> {
-        let (a, b) = (x1 - self.axis.x0, self.axis.x2 - x1);
-        let (d1, d2) = (a.length(), b.length());
-        if !(d1 > F::ZERO && d2 > F::ZERO && d1.is_finite() && d2.is_finite()) {
+        let (d, d1, d2) = self.deflection_unit(x1)?;
+        let l = self.axis.unit.length;
+        let (d1, d2) = (d1 * l, d2 * l);
+        (d1.is_finite() && d2.is_finite()).then_some((d, d1, d2))
+    }
+
+    /// [`deflection`](Self::deflection) with `d1`, `d2` in the connection's
+    /// [`Unit`] (`|x1 − x0|/L`, `|x1 − x2|/L`).
+    #[inline]
+    pub fn deflection_unit(&self, x1: F::Vec3) -> Option<(Deflection<F>, F, F)> {
+        if !x1.is_finite() {
             return None;
         }
-        Some((Deflection::between_segments(a, d1, b, d2), d1, d2))
+        let axis = &self.axis;
+        segments(axis.from_x0_unit(x1), -axis.from_x2_unit(x1))
     }
 
     /// [`deflection`](Self::deflection) at a vertex from its offsets,
@@ -206,12 +235,15 @@ impl<F: Real> Connection<F> {
     /// zero or not finite.
     #[inline]
     pub fn deflection_at(&self, v: &Vertex<F>) -> Option<(Deflection<F>, F, F)> {
-        let (a, b) = (v.from_x0, -v.from_x2);
-        let (d1, d2) = (a.length(), b.length());
-        if !(d1 > F::ZERO && d2 > F::ZERO && d1.is_finite() && d2.is_finite()) {
-            return None;
-        }
-        Some((Deflection::between_segments(a, d1, b, d2), d1, d2))
+        segments(v.from_x0, -v.from_x2)
+    }
+
+    /// [`deflection_at`](Self::deflection_at) with `d1`, `d2` in the
+    /// connection's [`Unit`] (the offsets divided by `L`).
+    #[inline]
+    pub fn deflection_at_unit(&self, v: &Vertex<F>) -> Option<(Deflection<F>, F, F)> {
+        let inverse = self.axis.unit.inverse;
+        segments(v.from_x0 * inverse, -(v.from_x2 * inverse))
     }
 
     /// The deflection at `x1 = x2 + t ω` (unit ω, t > 0) and `d1`, for the
@@ -220,26 +252,97 @@ impl<F: Real> Connection<F> {
     /// would not). `None` if `x1` is on `x0` or not finite.
     #[inline]
     pub fn deflection_along(&self, omega: F::Vec3, t: F) -> Option<(Deflection<F>, F)> {
-        let a = (self.axis.x2 - self.axis.x0) + omega * t;
-        let d1 = a.length();
-        if !(d1 > F::ZERO && d1.is_finite()) {
-            return None;
-        }
-        Some((Deflection::between_segments(a, d1, -omega, F::ONE), d1))
+        let axis = &self.axis;
+        let (d, d1) = self.deflection_along_unit(omega, t * axis.unit.inverse)?;
+        let d1 = d1 * axis.unit.length;
+        d1.is_finite().then_some((d, d1))
     }
 
+    /// [`deflection_along`](Self::deflection_along) with `t` and the
+    /// returned `d1` in the connection's [`Unit`].
+    #[inline]
+    pub fn deflection_along_unit(&self, omega: F::Vec3, t: F) -> Option<(Deflection<F>, F)> {
+        let axis = &self.axis;
+        let a = (axis.x2 - axis.x0) * axis.unit.inverse + omega * t;
+        let (d, d1, _) = segments::<F>(a, -omega)?;
+        Some((d, d1))
+    }
     /// The kernel `k(x1) = p(θ) / (d1² d2²)` for θ < θmax, else 0 (finite,
-    /// saturating).
+    /// saturating), with `d1`, `d2` in the connection's [`Unit`] and
+    /// `L⁻⁴` applied last.
     #[inline]
     pub fn kernel<P: PhaseFunction<F>>(&self, phase: &P, x1: F::Vec3) -> F {
-        match self.deflection(x1) {
+        match self.deflection_unit(x1) {
             Some((d, d1, d2)) if d.theta < self.theta_max => {
                 let r = F::ONE / (d1 * d2);
-                saturate(phase.eval(d) * r * r)
+                saturate((phase.eval(d) * r * r).scale_pow2(-4 * self.axis.unit.exponent))
             }
             _ => F::ZERO,
         }
     }
+}
+
+/// The deflection between the directions of two non-zero vectors `a`, `b`
+/// of any finite length, with `(|a|, |b|)`: [`Deflection::between_segments`]
+/// on `a`, `b` themselves where their lengths lie in
+/// `[2^(MIN_EXPONENT/4), 2^(MAX_EXPONENT/4)]` (so that `|a| b` and its
+/// square stay normal), else on `a 2⁻ᵏᵃ`, `b 2⁻ᵏᵇ` brought to length one by
+/// exact scalings. `None` for a zero or non-finite vector.
+#[inline]
+pub(crate) fn segments<F: Real>(a: F::Vec3, b: F::Vec3) -> Option<(Deflection<F>, F, F)> {
+    let (la, lb) = (a.length(), b.length());
+    if !(la > F::ZERO && lb > F::ZERO && la.is_finite() && lb.is_finite()) {
+        return None;
+    }
+    let lo = F::ONE.scale_pow2(F::MIN_EXPONENT / 4);
+    let hi = F::ONE.scale_pow2(F::MAX_EXPONENT / 4);
+    let d = if la >= lo && la <= hi && lb >= lo && lb <= hi {
+        Deflection::between_segments(a, la, b, lb)
+    } else {
+        scaled_segments(a, la, b, lb)
+    };
+    Some((d, la, lb))
+}
+
+/// The density per `L³` of `unit` a sample `s` of any technique at the
+/// vertex `v` was drawn with: its pdf converted where that is a normal
+/// number (exact), else `evaluate(v)` (the technique's
+/// [`Technique::pdf_vertex_unit`]), where the volume density under- or
+/// overflowed. (The core's techniques know the density they computed in
+/// the unit while sampling and return it directly.)
+#[inline(never)]
+pub(crate) fn density_of<F: Real>(
+    s: &Sample<F>,
+    v: &Vertex<F>,
+    unit: &Unit<F>,
+    evaluate: &dyn Fn(&Vertex<F>) -> F,
+) -> F {
+    if s.pdf >= F::MIN_POSITIVE && s.pdf < F::MAX {
+        unit.density_to_unit(s.pdf)
+    } else {
+        evaluate(v)
+    }
+}
+
+/// A density `q` per `L³` of a connection's unit `own`, as a density per
+/// `L³` of `unit`: `q 2^{3(k − k_own)}` (the same number when the units are
+/// the same), saturated.
+#[inline]
+pub(crate) fn in_unit<F: Real>(q: F, own: &Unit<F>, unit: &Unit<F>) -> F {
+    saturate(q.scale_pow2(3 * (unit.exponent - own.exponent)))
+}
+
+/// [`segments`] off its fast path: the vectors brought to length one by
+/// exact scalings first.
+#[cold]
+fn scaled_segments<F: Real>(a: F::Vec3, la: F, b: F::Vec3, lb: F) -> Deflection<F> {
+    let (ka, kb) = (la.exponent(), lb.exponent());
+    Deflection::between_segments(
+        a.scale_pow2(-ka),
+        la.scale_pow2(-ka),
+        b.scale_pow2(-kb),
+        lb.scale_pow2(-kb),
+    )
 }
 
 /// A density or weight made safe to return: NaN → 0, +∞ → `F::MAX`.

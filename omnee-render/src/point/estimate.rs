@@ -1,7 +1,10 @@
 //! The estimate of the point-to-point once-more integral, as mean and
 //! standard error, optionally with the core's quadrature reference:
-//! `omnee estimate`, Python's `omnee.estimate`.
+//! `omnee estimate`, Python's `omnee.estimate`; with bridges of several
+//! vertices ([`super::bridge`]) the `k`-times scattered transfer and its
+//! isotropic closed form.
 
+use super::bridge::{self, BridgeEstimate};
 use super::problem::{Precision, Prepared, Problem, X0Lobe};
 use crate::error::{RenderError, Result, Spelling};
 use crate::moments::Moments;
@@ -57,6 +60,12 @@ pub struct Estimate {
     /// With a lobe: the probability `c` with which a draw took the lobe
     /// technique (0 for OMNEE with the lobe in its weight).
     pub lobe_probability: Option<f64>,
+    /// With bridges (vertices other than one): the orders drawn, each
+    /// order's share of the mean, and their closed forms if asked for.
+    /// [`mean`](Self::mean) and [`reference`](Self::reference) are then those
+    /// of `I_K` or of `Σ_K I_K`, and [`technique`](Self::technique) is not
+    /// what drew.
+    pub bridge: Option<BridgeEstimate>,
 }
 
 /// Checks that `samples` (spelled `field`) is in `[1, 2⁴⁰]`.
@@ -86,6 +95,9 @@ pub fn estimate(
     let samples = check_samples(&spelling.of("samples"), samples)?;
     let p = problem.check(spelling)?;
     let start = Instant::now();
+    if p.bridges() {
+        return bridge_estimate(&p, samples, reference, cancel, start);
+    }
     let lobe = p.lobe.is_some();
     let (moments, accepted, lobe_probability) = match (lobe, problem.precision) {
         (false, Precision::F32) => sums::<f32>(&p, samples, cancel)?,
@@ -111,6 +123,60 @@ pub fn estimate(
         lobe_probability,
         phase: p.phase,
         lobe: p.lobe,
+        bridge: None,
+    })
+}
+
+/// [`estimate`] with bridges: the sums in chunk order as for one vertex,
+/// the closed forms if asked for (checked before any draw).
+fn bridge_estimate(
+    p: &Prepared,
+    samples: u64,
+    reference: bool,
+    cancel: &AtomicBool,
+    start: Instant,
+) -> Result<Estimate> {
+    let references = reference.then(|| bridge::references(p)).transpose()?;
+    let seed = p.problem.seed;
+    let chunks = match p.problem.precision {
+        Precision::F32 => p.with_bridge::<f32, _>(|b| {
+            chunked(samples, cancel, |k, count| {
+                bridge::chunk_sums(b, &mut Rng::stream(seed, k, STREAM), count)
+            })
+        })??,
+        Precision::F64 => p.with_bridge::<f64, _>(|b| {
+            chunked(samples, cancel, |k, count| {
+                bridge::chunk_sums(b, &mut Rng::stream(seed, k, STREAM), count)
+            })
+        })??,
+    };
+    let (mut moments, mut orders, mut accepted) = bridge::BridgeSums::default();
+    orders.resize(omnee_core::bridge::MAX_VERTICES + 1, Moments::default());
+    for (m, o, a) in &chunks {
+        moments.add(m);
+        for (sum, add) in orders.iter_mut().zip(o) {
+            sum.add(add);
+        }
+        accepted += a;
+    }
+    let report = bridge::report(p, samples, &orders, references.as_deref())?;
+    let (mean, stderr) = moments.mean_stderr(samples);
+    Ok(Estimate {
+        mean,
+        stderr,
+        samples,
+        accepted,
+        reference: references.map(|r| r.iter().sum()),
+        seconds: start.elapsed().as_secs_f64(),
+        technique: p.technique,
+        mean_cosine: p.g,
+        tau: p.tau,
+        receiver_normal: None,
+        precision: p.problem.precision,
+        lobe_probability: None,
+        phase: p.phase.clone(),
+        lobe: None,
+        bridge: Some(report),
     })
 }
 

@@ -1,8 +1,9 @@
 //! The point-to-point problem: a unit-intensity point light `x0`, a point
 //! receiver `x2` (with a cosine about an optional normal), an infinite
 //! homogeneous medium, the once-more integrand restricted to θ < θmax, and
-//! optionally a lobe at `x0` (docs/math.md §1, §12). [`Problem`] is what a
-//! caller states; [`Problem::check`] gives the [`Prepared`] problem, every
+//! optionally a lobe at `x0` (docs/math.md §1, §12), or instead of one
+//! vertex a bridge of several (docs/math.md §14, [`super::bridge`]).
+//! [`Problem`] is what a caller states; [`Problem::check`] gives the [`Prepared`] problem, every
 //! field checked and the technique resolved, which the engines draw from.
 
 use crate::error::{RenderError, Result, Spelling, core_error};
@@ -10,6 +11,7 @@ use crate::phase::{PhaseSpec, TableStorage};
 use crate::range::Range;
 use crate::rng::Rng;
 use crate::technique::Resolved;
+use crate::vertices::VertexNumber;
 use omnee_core::lobe::PhaseLobe;
 use omnee_core::medium::{Homogeneous, Region};
 use omnee_core::method::{Choice, LobeMethod, LobeTechnique, Method, Setup};
@@ -75,11 +77,16 @@ pub struct Problem {
     pub x0_phase: Option<String>,
     /// The propagation direction of the light arriving at `x0`.
     pub x0_incoming: Option<[f64; 3]>,
+    /// The number of scattering vertices between `x0` and `x2`: one (the
+    /// once-more integral, drawn by `technique`), or bridges of `K`
+    /// vertices or of a drawn number (docs/math.md §14), which take
+    /// θmax = π, no receiver cosine, no lobe and `technique = auto`.
+    pub vertices: VertexNumber,
 }
 
 impl Default for Problem {
     /// `x0 = (0, 0, 1)`, `x2 = 0`, isotropic, σs = 0.5, σt = 0.55, θmax = π,
-    /// `auto`, seed 1, f64, no lobe.
+    /// `auto`, seed 1, f64, no lobe, one vertex.
     fn default() -> Self {
         Self {
             x0: [0.0, 0.0, 1.0],
@@ -94,6 +101,7 @@ impl Default for Problem {
             precision: Precision::F64,
             x0_phase: None,
             x0_incoming: None,
+            vertices: VertexNumber::Fixed(1),
         }
     }
 }
@@ -123,8 +131,11 @@ pub struct Prepared {
     pub g: f64,
     /// The optical thickness `τ = σt · |x2 − x0|`.
     pub tau: f64,
-    /// The technique.
+    /// The technique (of one vertex; bridges are drawn by
+    /// [`super::bridge`] whatever it says).
     pub technique: Resolved,
+    /// The number of vertices, checked.
+    pub vertices: VertexNumber,
     /// How messages spell the fields.
     pub spelling: Spelling,
 }
@@ -175,6 +186,7 @@ impl Problem {
         let g = phase.instantiate::<f64>(&mut st)?.mean_cosine();
         let tau = self.sigma_t * s;
         let technique = self.resolve(lobe.is_some(), g, tau, spelling)?;
+        let vertices = self.check_vertices(spelling)?;
         Ok(Prepared {
             problem: self.clone(),
             phase,
@@ -183,8 +195,48 @@ impl Problem {
             g,
             tau,
             technique,
+            vertices,
             spelling,
         })
+    }
+
+    /// The number of vertices in range; with bridges, the fields that only
+    /// one vertex has left at their defaults.
+    fn check_vertices(&self, spelling: Spelling) -> Result<VertexNumber> {
+        let vertices = self.vertices.check(spelling, 1)?;
+        if vertices == VertexNumber::Fixed(1) {
+            return Ok(vertices);
+        }
+        let only_one = |field: &str, value: String, allowed: &str| {
+            Err(RenderError::Input(format!(
+                "{} = {value} applies to {} = 1 only (with {} = {vertices} every draw is a bridge, \
+                 docs/math.md §14); allowed: {allowed}",
+                spelling.of(field),
+                spelling.of("vertices"),
+                spelling.of("vertices"),
+            )))
+        };
+        if self.theta_max != std::f64::consts::PI {
+            return only_one(
+                "theta_max",
+                self.theta_max.to_string(),
+                "pi (no restriction)",
+            );
+        }
+        if let Some(n) = self.receiver_normal {
+            return only_one(
+                "receiver_normal",
+                format!("{},{},{}", n[0], n[1], n[2]),
+                "none",
+            );
+        }
+        if let Some(p) = &self.x0_phase {
+            return only_one("x0_phase", p.clone(), "none");
+        }
+        if self.technique != Choice::Auto {
+            return only_one("technique", self.technique.to_string(), "auto");
+        }
+        Ok(vertices)
     }
 
     /// The lobe at `x0`: `x0_phase` and `x0_incoming`, both or neither.
@@ -266,7 +318,8 @@ pub fn unit_vector(field: &str, n: [f64; 3]) -> Result<[f64; 3]> {
     Ok([n[0] / len, n[1] / len, n[2] / len])
 }
 
-fn vec3<F: Real>(a: [f64; 3]) -> F::Vec3 {
+/// `a` in precision `F`.
+pub(crate) fn vec3<F: Real>(a: [f64; 3]) -> F::Vec3 {
     F::Vec3::new(F::from_f64(a[0]), F::from_f64(a[1]), F::from_f64(a[2]))
 }
 

@@ -1,15 +1,19 @@
 //! The vertices `x1` of a technique's draws for the point-to-point problem,
 //! with their uniform numbers, pdf, weight and estimate: `omnee samples`.
 //! They are drawn in the chunks and streams of [`super::estimate`], so the
-//! same seed lists the draws an estimate averages.
+//! same seed lists the draws an estimate averages. With bridges
+//! ([`super::bridge`]) a draw has `k` vertices, one row each, all with the
+//! bridge's pdf, weight and estimate (the number that drew `k`, when drawn,
+//! is not listed).
 
 use super::estimate::{STREAM, check_samples};
 use super::problem::{Precision, Prepared, Problem, x1_f64};
 use crate::error::{Result, Spelling};
 use crate::parallel::{CHUNK, chunks};
 use crate::rng::Rng;
-use omnee_core::Real;
+use omnee_core::bridge::MAX_VERTICES;
 use omnee_core::sampling::Technique;
+use omnee_core::{Real, Vector};
 
 /// One vertex of a draw.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -17,17 +21,18 @@ pub struct Row {
     /// The draw's index.
     pub draw: u64,
     /// Which of the draw's vertices it is (0: the technique's own, 1: the
-    /// MIS companion).
+    /// MIS companion; with bridges `i − 1` for `x_i`).
     pub vertex: usize,
     /// The three uniform numbers that placed it.
     pub u: [f64; 3],
     /// The vertex `x1`.
     pub x1: [f64; 3],
-    /// Its density in the volume measure.
+    /// Its density in the volume measure (a bridge's in the product of the
+    /// `k` volume measures).
     pub pdf: f64,
     /// The technique's weight `k/pdf`.
     pub weight: f64,
-    /// Its contribution `f_c · weight`.
+    /// Its contribution `f_c · weight` (a bridge's divided by `P(k)`).
     pub estimate: f64,
 }
 
@@ -49,6 +54,10 @@ pub fn samples(problem: &Problem, count: u64, spelling: Spelling) -> Result<Samp
     let count = check_samples(&spelling.of("count"), count)?;
     let p = problem.check(spelling)?;
     let (rows, lobe_probability) = match (p.lobe.is_some(), problem.precision) {
+        _ if p.bridges() => match problem.precision {
+            Precision::F32 => (bridge_rows::<f32>(&p, count)?, None),
+            Precision::F64 => (bridge_rows::<f64>(&p, count)?, None),
+        },
         (false, Precision::F32) => (rows::<f32>(&p, count)?, None),
         (false, Precision::F64) => (rows::<f64>(&p, count)?, None),
         (true, Precision::F32) => lobe_rows::<f32>(&p, count)?,
@@ -81,6 +90,35 @@ fn rows<F: Real>(p: &Prepared, count: u64) -> Result<Vec<Row>> {
                             estimate: sampler.estimate(s),
                         });
                     }
+                }
+            }
+        }
+        rows
+    })
+}
+
+/// The vertices of `count` bridges in precision `F`.
+fn bridge_rows<F: Real>(p: &Prepared, count: u64) -> Result<Vec<Row>> {
+    p.with_bridge::<F, _>(|b| {
+        let mut rows = Vec::new();
+        let mut u = [[F::ZERO; 3]; MAX_VERTICES];
+        let mut x = [b.bridge.axis.x0; MAX_VERTICES];
+        for (k, n) in chunks(count) {
+            let mut rng = Rng::stream(p.problem.seed, k, STREAM);
+            for j in 0..n {
+                let draw = b.draw(&mut rng, &mut u, &mut x);
+                let Some(s) = draw.sample else { continue };
+                let estimate = b.estimate(&draw);
+                for i in 0..draw.k {
+                    rows.push(Row {
+                        draw: k * CHUNK + j,
+                        vertex: i,
+                        u: u[i].map(|v| v.to_f64()),
+                        x1: x[i].to_array().map(|v| v.to_f64()),
+                        pdf: s.pdf.to_f64(),
+                        weight: s.weight.to_f64(),
+                        estimate,
+                    });
                 }
             }
         }

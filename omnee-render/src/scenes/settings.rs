@@ -8,7 +8,8 @@ use crate::phase::PhaseSampling;
 use crate::range::Range;
 use crate::render::budget::Budget;
 use crate::technique::Resolved;
-use omnee_core::method::Choice;
+use crate::vertices::VertexNumber;
+use omnee_core::method::{Choice, MultipleMethod};
 use omnee_core::names::List;
 use omnee_core::term::Term;
 
@@ -33,6 +34,11 @@ pub struct RenderSettings {
     pub technique: Choice,
     /// The once-more integrand's restriction θ < θmax (radians, (0, π]).
     pub theta_max: f64,
+    /// How the slab scene's `multiple` term is estimated.
+    pub multiple: MultipleMethod,
+    /// The orders of the `multiple` term: `2 ..= max` (drawn per
+    /// connection by bridges) or one fixed `k ≥ 2`.
+    pub vertices: VertexNumber,
     /// Russian roulette threshold as a fraction of the scene's reference
     /// radiance (0: off; the slab scene's only).
     pub russian_roulette: f64,
@@ -83,6 +89,7 @@ impl RenderSettings {
         }
         self.window(spelling)?;
         Range::THETA_MAX.check(&spelling.of("theta_max"), self.theta_max)?;
+        self.vertices.check(spelling, 2)?;
         Range::UNIT.check(&spelling.of("russian_roulette"), self.russian_roulette)?;
         if let Some(e) = self.exposure {
             Range::EXPOSURE.check(&spelling.of("exposure"), e)?;

@@ -18,8 +18,8 @@ pub mod stats;
 pub mod world;
 
 pub use file::{
-    CameraSection, FloorSection, LightSection, Medium, Occluder, Pattern, SLAB_TECHNIQUES,
-    SLAB_TERMS, SlabSettings,
+    CameraSection, FloorSection, LightSection, Medium, Occluder, Pattern, SLAB_DEFAULT_TERMS,
+    SLAB_TECHNIQUES, SLAB_TERMS, SlabSettings,
 };
 pub use render::{SlabRender, render};
 pub use stats::SlabStats;
@@ -114,7 +114,7 @@ mod tests {
         assert_eq!(s.medium.sigma_s, 0.5);
         assert_eq!(s.medium.sigma_a, 0.05);
         assert!(s.occluder.is_some());
-        assert_eq!(s.render.terms, SLAB_TERMS);
+        assert_eq!(s.render.terms, SLAB_DEFAULT_TERMS);
     }
 
     #[test]
@@ -133,7 +133,9 @@ mod tests {
         let bad = edited("terms = [\"direct\",", "terms = [\"glow\",");
         let e = SlabScene::parse(&bad).unwrap_err().to_string();
         assert!(
-            e.contains("render.terms = \"glow\" is not a term; allowed: direct, once-more, view"),
+            e.contains(
+                "render.terms = \"glow\" is not a term; allowed: direct, once-more, view, multiple"
+            ),
             "{e}"
         );
         let bad = edited("pattern = \"holes\"", "pattern = \"stars\"");
@@ -145,6 +147,46 @@ mod tests {
         );
         let e = SlabScene::parse(&bad).unwrap_err().to_string();
         assert!(e.contains("render.terms is empty"), "{e}");
+    }
+
+    #[test]
+    fn the_multiple_terms_settings_are_read_and_checked() {
+        use crate::vertices::VertexNumber;
+        use omnee_core::method::MultipleMethod;
+        let s = SlabScene::default_scene().render;
+        assert_eq!(s.multiple, MultipleMethod::Bridge);
+        assert_eq!(s.vertices, VertexNumber::Auto { max: 8 });
+        let with = |text: &str| {
+            SlabScene::parse(&edited("max_vertices = 8 ", text)).map(|s| s.render.vertices)
+        };
+        assert_eq!(
+            with("max_vertices = 3 ").unwrap(),
+            VertexNumber::Auto { max: 3 }
+        );
+        let e = |text: &str| with(text).unwrap_err().to_string();
+        assert!(e("max_vertices = 1 ").contains("render.max_vertices = 1"));
+        assert!(e("max_vertices = 33 ").contains("render.max_vertices = 33"));
+        let fixed = |k: &str| SlabScene::parse(&edited("vertices = \"auto\"", k));
+        let e = fixed("vertices = 1").unwrap_err().to_string();
+        assert!(e.contains("render.vertices = 1 is out of range"), "{e}");
+        assert!(fixed("vertices = \"many\"").is_err());
+        // A fixed order with max_vertices given: the file's max_vertices
+        // line is there, so the fixed k refuses it.
+        let e = fixed("vertices = 3").unwrap_err().to_string();
+        assert!(
+            e.contains("render.max_vertices = 8 applies to render.vertices"),
+            "{e}"
+        );
+        let text =
+            edited("vertices = \"auto\"", "vertices = 3").replacen("max_vertices = 8 ", "", 1);
+        assert_eq!(
+            SlabScene::parse(&text).unwrap().render.vertices,
+            VertexNumber::Fixed(3)
+        );
+        let e = SlabScene::parse(&edited("multiple = \"bridge\"", "multiple = \"photons\""))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("allowed: bridge, path-tracing"), "{e}");
     }
 
     #[test]

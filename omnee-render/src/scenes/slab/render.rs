@@ -6,7 +6,7 @@
 
 use super::world::camera_ray::{CameraSample, Transport};
 use super::world::once_more::{OnceMoreStart, PendingVertex, VertexBatch};
-use super::world::{OnceMore, SlabWorld};
+use super::world::{Multiple, OnceMore, SlabWorld};
 use super::{SlabScene, SlabStats};
 use crate::camera::Pinhole;
 use crate::error::{RenderError, Result};
@@ -212,6 +212,8 @@ impl SlabScene {
             terms: r.terms.clone(),
             technique: r.technique,
             theta_max: r.theta_max,
+            multiple: r.multiple,
+            vertices: r.vertices,
             russian_roulette: r.russian_roulette,
             phase_sampling: crate::phase::PhaseSampling::Table,
             exposure: r.exposure,
@@ -243,9 +245,11 @@ pub fn render(
     terms.sort();
     terms.dedup();
     let mut skipped = Vec::new();
-    let scattering = |t: &Term| matches!(t, Term::OnceMore | Term::View);
+    let scattering = |t: &Term| matches!(t, Term::OnceMore | Term::View | Term::Multiple);
     if !world.scatters() && terms.iter().any(scattering) {
-        skipped.push("sigma_s = 0: once-more and view terms skipped (no scattering)".to_string());
+        skipped.push(
+            "sigma_s = 0: once-more, view and multiple terms skipped (no scattering)".to_string(),
+        );
         terms.retain(|t| !scattering(t));
     }
     if scene.occluder.is_none() {
@@ -269,6 +273,11 @@ pub fn render(
             once_more: OnceMore {
                 method,
                 theta_max: settings.theta_max as f32,
+            },
+            multiple: Multiple {
+                method: settings.multiple,
+                vertices: settings.vertices,
+                mean_cosine: g as f32,
             },
             roulette: (settings.russian_roulette * scene.reference_radiance()) as f32,
         },
@@ -310,6 +319,11 @@ mod tests {
                     once_more: OnceMore {
                         method: Method::Omnee,
                         theta_max: std::f32::consts::PI,
+                    },
+                    multiple: Multiple {
+                        method: omnee_core::method::MultipleMethod::Bridge,
+                        vertices: crate::vertices::VertexNumber::Auto { max: 8 },
+                        mean_cosine: 0.98,
                     },
                     roulette: (1e-3 * scene.reference_radiance()) as f32,
                 },

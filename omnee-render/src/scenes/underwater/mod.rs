@@ -175,6 +175,10 @@ impl UnderwaterScene {
                 .collect(),
             technique: r.technique,
             theta_max: r.theta_max,
+            multiple: omnee_core::method::MultipleMethod::Bridge,
+            vertices: crate::vertices::VertexNumber::Auto {
+                max: crate::vertices::DEFAULT_MAX_VERTICES,
+            },
             russian_roulette: 0.0,
             phase_sampling: crate::phase::PhaseSampling::Exact,
             exposure: r.exposure,

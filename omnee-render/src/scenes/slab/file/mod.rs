@@ -14,4 +14,4 @@ pub use floor::FloorSection;
 pub use light::LightSection;
 pub use medium::Medium;
 pub use occluder::{Occluder, Pattern};
-pub use settings::{SLAB_TECHNIQUES, SLAB_TERMS, SlabSettings};
+pub use settings::{SLAB_DEFAULT_TERMS, SLAB_TECHNIQUES, SLAB_TERMS, SlabSettings};

@@ -1,7 +1,7 @@
 //! What a camera ray sees: the radiance of each transport term along it.
 
 use super::SlabStats;
-use super::{Hit, OnceMore, Roulette, SlabWorld};
+use super::{Hit, Multiple, OnceMore, Roulette, SlabWorld};
 use crate::rng::Rng;
 use glam::Vec3;
 use omnee_core::term::Term;
@@ -11,6 +11,8 @@ use omnee_core::term::Term;
 pub struct Transport {
     /// The once-more term's technique and θmax.
     pub once_more: OnceMore,
+    /// The multiple term's method and orders.
+    pub multiple: Multiple,
     /// Russian roulette threshold in W/(m²·sr) (0: off).
     pub roulette: f32,
 }
@@ -140,9 +142,12 @@ impl SlabWorld<'_> {
                 let roulette = Roulette::new(how.roulette);
                 Vec3::splat(self.view(o, d, hit.t(), rng, roulette, stats))
             }
+            (Term::Multiple, Some(r)) => {
+                r.radiance(self.multiple((r.p, Some(r.n)), how.multiple, rng, r.roulette, stats))
+            }
             // No receiver; or the underwater scene's terms, which the
             // slab scene's settings refuse before any sample is drawn.
-            (Term::OnceMore, None)
+            (Term::OnceMore | Term::Multiple, None)
             | (Term::Caustics | Term::CausticsOnceMore | Term::Shafts | Term::ShaftsOnceMore, _) => {
                 Vec3::ZERO
             }

@@ -6,7 +6,8 @@
 //!   reach), [`plate`] (the occluder); the floor is both scenes'
 //!   [`Floor`];
 //! - the transport terms, one file each: [`direct`], [`once_more`] (the
-//!   OMNEE term), [`view`] (single scattering along camera rays), with
+//!   OMNEE term), [`view`] (single scattering along camera rays),
+//!   [`multiple`] (2 … K vertices: bridges or path tracing), with
 //!   [`roulette`] before their visibility tests;
 //! - [`camera_ray`]: what a camera ray sees, term by term.
 //!
@@ -17,6 +18,7 @@
 pub mod camera_ray;
 pub mod direct;
 pub mod light;
+pub mod multiple;
 pub mod once_more;
 pub mod plate;
 pub mod roulette;
@@ -25,6 +27,7 @@ pub mod view;
 
 pub use super::stats::SlabStats;
 pub use light::Light;
+pub use multiple::Multiple;
 pub use once_more::OnceMore;
 pub use plate::Plate;
 pub use roulette::Roulette;

@@ -22,16 +22,17 @@ pub struct OnceMore {
     pub theta_max: f32,
 }
 
-/// The light end of a once-more connection.
+/// The light end of a once-more connection (and of the `multiple` term's
+/// bridges and next event estimates).
 #[derive(Clone, Copy, Debug)]
-struct LightVertex {
+pub(super) struct LightVertex {
     /// The point on the light.
-    x0: Vec3,
+    pub x0: Vec3,
     /// The sphere's normal at `x0` (`None` for a point light).
-    n0: Option<Vec3>,
+    pub n0: Option<Vec3>,
     /// `L / pdf_A(x0)` for a sphere, `I` for a point light: the factor
     /// `L cos θ0 / pdf_A` without the cosine, which depends on `x1`.
-    emitted: f32,
+    pub emitted: f32,
 }
 
 /// The probability of choosing `x0` in the cap visible from the receiver.
@@ -43,7 +44,7 @@ impl Light {
     /// solid angle from `p`), else uniform on the whole sphere, so every
     /// point that can light some `x1` has a positive density; its area
     /// density is `CONE · pdf_cone + (1 − CONE)/(4π r²)`.
-    fn once_more_origin(&self, p: Vec3, rng: &mut Rng) -> Option<LightVertex> {
+    pub(super) fn once_more_origin(&self, p: Vec3, rng: &mut Rng) -> Option<LightVertex> {
         if self.radius == 0.0 {
             return Some(LightVertex {
                 x0: self.center,
@@ -57,12 +58,19 @@ impl Light {
         } else {
             self.sample_area([u1, u2])
         };
-        let pdf = CONE * self.cone_area_pdf(p, y) + (1.0 - CONE) / self.area();
+        let pdf = self.origin_pdf(p, y);
         Some(LightVertex {
             x0: y,
             n0: Some((y - self.center) / self.radius),
             emitted: self.radiance / pdf,
         })
+    }
+
+    /// The area density at `y` on the sphere of
+    /// [`once_more_origin`](Self::once_more_origin)`(p)`:
+    /// `CONE · pdf_cone(y) + (1 − CONE)/(4π r²)`.
+    pub(super) fn origin_pdf(&self, p: Vec3, y: Vec3) -> f32 {
+        CONE * self.cone_area_pdf(p, y) + (1.0 - CONE) / self.area()
     }
 }
 

@@ -59,6 +59,13 @@ impl Slab {
         }
     }
 
+    /// The length of the segment `a → b` inside the slab, `(t1 − t0)|b − a|`
+    /// with [`range`](Self::range)'s parameters (the optical depth over σt).
+    pub fn inside_length(&self, a: Vec3, b: Vec3) -> f32 {
+        self.range(a, b)
+            .map_or(0.0, |(t0, t1)| (t1 - t0) * (b - a).length())
+    }
+
     /// Whether the θ < θmax region of a connection `x0 → x2`, contained in
     /// the ball about the midpoint of radius `(s/2) max(1, tan(θmax/2))`,
     /// can reach the slab.
