@@ -482,10 +482,12 @@ fn main() {
         let _ = writeln!(
             md,
             "## The default render\n\n`underwater` at {dw}x{dh}, {spp} passes of {dw}·{dh} light paths \
-             ({} paths) on 2 threads: **{wall:.1} s wall**, {cpu:.1} s CPU. Paths outside the lit region {}, \
-             lost at the surface {}, floor hits {}; splats: {}; wave-band visibility tests {}.\n",
+             ({} paths) on 2 threads: **{wall:.1} s wall**, {cpu:.1} s CPU. Paths with no start point {}, \
+             started beyond the core region {}, lost at the surface {}, floor hits {}; splats: {}; \
+             wave-band visibility tests {}.\n",
             st.paths,
-            st.outside_region,
+            st.no_start,
+            st.beyond_core,
             st.lost_at_surface,
             st.floor_hits,
             st.splats_by_term(),

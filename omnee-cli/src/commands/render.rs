@@ -323,7 +323,7 @@ fn summary_json(
                 .map(|(t, n)| (t.to_string(), json!(n)))
                 .collect();
             v["stats"] = json!({
-                "paths": st.paths, "outside_region": st.outside_region,
+                "paths": st.paths, "no_start": st.no_start, "beyond_core": st.beyond_core,
                 "lost_at_surface": st.lost_at_surface, "floor_hits": st.floor_hits,
                 "splats": splats, "no_vertex": st.no_vertex, "surface_tests": st.surface_tests,
             });
@@ -372,10 +372,11 @@ fn summary_text(
                 out.seconds
             ));
             say(&format!(
-                "light paths {}: outside the lit region {}, lost at the surface {}, on the floor {}; \
-                 splats: {}; no once-more vertex {}; wave-band tests {}",
+                "light paths {}: no start point {}, started beyond the core region {}, lost at the surface {}, \
+                 on the floor {}; splats: {}; no once-more vertex {}; wave-band tests {}",
                 st.paths,
-                st.outside_region,
+                st.no_start,
+                st.beyond_core,
                 st.lost_at_surface,
                 st.floor_hits,
                 st.splats_by_term(),
