@@ -40,7 +40,7 @@ use omnee::term::Term;
 use omnee_render::error::Spelling;
 use omnee_render::files::write_png;
 use omnee_render::image::tone_map;
-use omnee_render::render::budget::Budget;
+use omnee_render::render::budget::RenderBudget;
 use omnee_render::scenes::slab::DEFAULT_SCENE;
 use omnee_render::scenes::{RenderSettings, Scene};
 use omnee_render::vertices::VertexNumber;
@@ -77,7 +77,7 @@ fn timed(
 ) -> (Vec<f64>, Vec<f32>, f64) {
     let mut s = settings.clone();
     s.multiple = method;
-    s.budget = Budget::Spp(spp);
+    s.budget = RenderBudget::Spp(spp);
     s.seed = seed;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)

@@ -40,7 +40,7 @@ use omnee::term::Term;
 use omnee_render::files::write_png;
 use omnee_render::image::{Layers, tone_map};
 use omnee_render::phase::TableStorage;
-use omnee_render::render::budget::Budget;
+use omnee_render::render::budget::RenderBudget;
 use omnee_render::render::{Options, render};
 use omnee_render::scenes::underwater::transport::CausticsMethod;
 use omnee_render::scenes::underwater::{
@@ -90,7 +90,7 @@ const LOBE: [Variant; 2] = [
 fn timed(world: &UnderwaterWorld<'_>, spp: u32, seed: u64, threads: usize) -> (Rendered, f64) {
     let (w, h) = (world.camera.width, world.camera.height);
     let opt = Options {
-        budget: Budget::Spp(spp),
+        budget: RenderBudget::Spp(spp),
         seed,
         crop: [0, 0, w, h],
     };
@@ -482,10 +482,12 @@ fn main() {
         let _ = writeln!(
             md,
             "## The default render\n\n`underwater` at {dw}x{dh}, {spp} passes of {dw}·{dh} light paths \
-             ({} paths) on 2 threads: **{wall:.1} s wall**, {cpu:.1} s CPU. Paths outside the lit region {}, \
-             lost at the surface {}, floor hits {}; splats: {}; wave-band visibility tests {}.\n",
+             ({} paths) on 2 threads: **{wall:.1} s wall**, {cpu:.1} s CPU. Paths with no start point {}, \
+             started beyond the core region {}, lost at the surface {}, floor hits {}; splats: {}; \
+             wave-band visibility tests {}.\n",
             st.paths,
-            st.outside_region,
+            st.no_start,
+            st.beyond_core,
             st.lost_at_surface,
             st.floor_hits,
             st.splats_by_term(),

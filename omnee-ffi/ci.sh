@@ -6,8 +6,9 @@
 #     -pedantic) and links a C++ caller;
 #  3. builds the staticlib, then the example, the error-path test, the
 #     promises test (corrupted objects, normals and directions of any length,
-#     extreme scales, outputs as documented), the batch-over-connections test
-#     and the bit-pattern program with
+#     extreme scales, outputs as documented), the batch-over-connections test,
+#     the bridges test (bad input, and the estimates of I_K against the
+#     isotropic closed form) and the bit-pattern program with
 #     cc -std=c99 -Wall -Wextra -Werror -fsanitize=address,undefined, and
 #     runs them;
 #  4. checks that the C results equal the Rust API's bit for bit.
@@ -64,13 +65,15 @@ c++ "$out/header_cpp.o" "${lib[@]}" -o "$out/header_cpp" && "$out/header_cpp"
 step "C programs under AddressSanitizer and UndefinedBehaviorSanitizer"
 cflags=(-std=c99 -Wall -Wextra -Werror -g -fsanitize=address,undefined -fno-sanitize-recover=all
   -Iomnee-ffi/include)
-for program in examples/estimate tests/errors tests/promises tests/bits tests/connections; do
+for program in examples/estimate tests/errors tests/promises tests/bits tests/connections \
+  tests/bridges; do
   cc "${cflags[@]}" "omnee-ffi/$program.c" "${lib[@]}" -o "$out/$(basename "$program")"
 done
 "$out/estimate"
 "$out/errors"
 "$out/promises"
 "$out/connections"
+"$out/bridges"
 
 step "C results equal the Rust API's, bit for bit"
 "$out/bits" >"$out/bits.txt"

@@ -4,21 +4,23 @@
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use omnee_render::render::Progress;
-use omnee_render::render::budget::Budget;
+use omnee_render::render::budget::RenderBudget;
 
 /// A progress bar for one render.
 pub struct Bar {
     bar: ProgressBar,
-    budget: Budget,
+    budget: RenderBudget,
 }
 
 impl Bar {
     /// A bar for `budget`, drawn on stderr when it is a terminal (indicatif
     /// hides it otherwise).
-    pub fn start(budget: Budget) -> Self {
+    pub fn start(budget: RenderBudget) -> Self {
         let template = match budget {
-            Budget::Spp(_) => "[{bar:30}] {percent:>3}% {msg} spp, {elapsed_precise}, ETA {eta}",
-            Budget::Seconds(_) => {
+            RenderBudget::Spp(_) => {
+                "[{bar:30}] {percent:>3}% {msg} spp, {elapsed_precise}, ETA {eta}"
+            }
+            RenderBudget::Seconds(_) => {
                 "[{bar:30}] {percent:>3}% {msg} spp, {elapsed_precise} of the budget"
             }
         };
@@ -32,12 +34,12 @@ impl Bar {
     /// Shows the render's state `p`.
     pub fn report(&self, p: Progress) {
         let total = match self.budget {
-            Budget::Spp(n) => {
+            RenderBudget::Spp(n) => {
                 self.bar.set_length(u64::from(n) * p.items_per_pass.max(1));
                 self.bar.set_position(p.items);
                 format!("/{n}")
             }
-            Budget::Seconds(s) => {
+            RenderBudget::Seconds(s) => {
                 self.bar.set_length((s * 1e3).ceil() as u64);
                 self.bar.set_position((p.seconds * 1e3) as u64);
                 String::new()
@@ -48,7 +50,7 @@ impl Bar {
 
     /// Draws the final state and leaves it on screen.
     pub fn finish(self) {
-        if let Budget::Seconds(_) = self.budget {
+        if let RenderBudget::Seconds(_) = self.budget {
             self.bar.set_position(self.bar.length().unwrap_or(0));
         }
         self.bar.finish();

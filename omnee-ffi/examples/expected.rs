@@ -4,6 +4,7 @@
 //! it wraps (`cargo run -p omnee-ffi --example expected`).
 
 use glam::Vec3;
+use omnee_core::bridge::{Bridge, REFERENCE_BUDGET, VertexCount, isotropic_transfer};
 use omnee_core::medium::{Homogeneous, Region};
 use omnee_core::mis::OmneeMis;
 use omnee_core::phase::{Deflection, HenyeyGreenstein, Phase, PhaseFunction, Spec, Tabulated};
@@ -201,7 +202,66 @@ fn run<F: Bits>() -> Result<String, omnee_core::Error> {
 
     let reference = problem.integral(&HenyeyGreenstein::new(0.9)?);
     writeln!(out, "{p} reference hg:0.9{}", reference.bits()).unwrap();
+    bridges::<F>(&mut out, u3)?;
     Ok(out)
+}
+
+/// The bridge lines of `tests/bits_body.inc`: bridges of 1, 2 and 5
+/// vertices (hg:0.9), their densities and estimates, the number of
+/// vertices drawn, and the isotropic closed form.
+fn bridges<F: Bits>(out: &mut String, u3: [[f64; 3]; 4]) -> Result<(), omnee_core::Error> {
+    let p = F::NAME;
+    let (x0, x2) = (v::<F>(0.3, -0.2, 1.1), v::<F>(-0.1, 0.4, 0.2));
+    let hg = HenyeyGreenstein::new(F::from_f64(0.9))?;
+    let bridge = Bridge::new(x0, x2, hg)?;
+    let medium = Homogeneous::new(F::from_f64(0.5), F::from_f64(0.05))?;
+    for k in [1usize, 2, 5] {
+        let mut u = [[F::ZERO; 3]; 5];
+        for j in 0..3 * k {
+            u[j / 3][j % 3] = F::from_f64(u3[j % 4][j % 3]) * F::from_f64(0.999);
+        }
+        let mut x = [x0; 5];
+        let b = bridge.sample(&u[..k], &mut x[..k]);
+        let drawn = status(&b);
+        let b = b.expect("these numbers give a bridge");
+        write!(out, "{p} bridge k {k}{drawn} {:08x}", b.k).unwrap();
+        for f in [b.length, b.pdf, b.phase_ratio, b.weight] {
+            write!(out, "{}", f.bits()).unwrap();
+        }
+        for xi in &x[..k] {
+            write!(out, "{}", xi.to_array().map(F::bits).concat()).unwrap();
+        }
+        let estimate = bridge.estimate(&b, &medium);
+        write!(out, "{}{}", bridge.pdf(&x[..k]).bits(), estimate.bits()).unwrap();
+        let mut inverse = [[F::ZERO; 3]; 5];
+        let found = bridge.invert(&x[..k], &mut inverse[..k]);
+        write!(out, "{}", status(&found)).unwrap();
+        for ui in &inverse[..k] {
+            write!(out, "{}", ui.map(F::bits).concat()).unwrap();
+        }
+        writeln!(out).unwrap();
+    }
+    let count = VertexCount::new(
+        8,
+        bridge.axis.s,
+        medium.sigma_s(),
+        medium.sigma_t(),
+        hg.mean_cosine(),
+    )?;
+    write!(out, "{p} vertex count").unwrap();
+    for u in &u3 {
+        let (k, probability) = count.sample(F::from_f64(u[0]));
+        write!(out, " {k:08x}{}", probability.bits()).unwrap();
+    }
+    writeln!(out).unwrap();
+    let (s, sigma_s, sigma_t) = (
+        bridge.axis.s.to_f64(),
+        medium.sigma_s().to_f64(),
+        medium.sigma_t().to_f64(),
+    );
+    let reference = isotropic_transfer(3, s, sigma_s, sigma_t, REFERENCE_BUDGET)?;
+    writeln!(out, "{p} bridge reference k 3{}", reference.bits()).unwrap();
+    Ok(())
 }
 
 /// The batch of `tests/bits.c`.

@@ -10,8 +10,10 @@
  *
  * NAMES. Every name starts with omnee_ (types, functions) or OMNEE_
  * (constants). Functions are omnee_<object>_<operation>_<precision>:
- *   objects:    connection, phase, deflection, problem, and the techniques
- *               omnee (OMNEE itself), equiangular, distance, mis;
+ *   objects:    connection, phase, deflection, problem, the techniques
+ *               omnee (OMNEE itself), equiangular, distance, mis, and
+ *               bridge (k scattering vertices between x0 and x2) with
+ *               vertex_count (the number k drawn per connection);
  *   operations: init / a phase function's name / parse / table (make an
  *               object), sample, pdf, invert (the technique trio, as in
  *               pbrt-v4 and Mitsuba 3's warps), sample_batch, eval, cdf,
@@ -27,7 +29,9 @@
  * objects then fail every later use with OMNEE_ERROR_UNINITIALISED), except
  * where a function says otherwise (omnee_phase_parse_* leaves the phase
  * function unwritten on OMNEE_TABLE_SPEC; omnee_omnee_sample_batch_f32
- * leaves its vertex arrays as they were on an error); no output is written
+ * leaves its vertex arrays as they were on an error, and so do
+ * omnee_bridge_sample_* and omnee_bridge_invert_* with the caller's
+ * vertex and number arrays); no output is written
  * before every check of the call has passed. The last argument, omnee_error *error, may be NULL; when it is not and the call
  * fails, it receives the status, the offending field's name, its value
  * (out-of-range numbers) and the message, for the core's errors exactly the
@@ -87,6 +91,14 @@
 #include <stddef.h>
 #include <stdint.h>
 
+// The largest number of inner vertices of a bridge (the core's
+// `MAX_VERTICES`); a vertex array of this capacity fits every bridge.
+#define OMNEE_MAX_VERTICES 32
+
+// The default evaluation budget of `omnee_bridge_reference_*` (the core's
+// `REFERENCE_BUDGET`): tens of milliseconds at most.
+#define OMNEE_REFERENCE_BUDGET 1000000
+
 // Bytes in `omnee_error.field`, with the terminating NUL.
 #define OMNEE_ERROR_FIELD_CAPACITY 32
 
@@ -123,6 +135,12 @@
 
 // 64-bit words of storage in `omnee_problem_f64`.
 #define OMNEE_PROBLEM_F64_WORDS 27
+
+// 64-bit words of storage in `omnee_vertex_count_f32`.
+#define OMNEE_VERTEX_COUNT_F32_WORDS 18
+
+// 64-bit words of storage in `omnee_vertex_count_f64`.
+#define OMNEE_VERTEX_COUNT_F64_WORDS 34
 
 // What a function did. Zero and positive: success (an output may still be
 // "nothing", as Rust's `None`); negative: an error, described in the
@@ -186,6 +204,14 @@ typedef struct omnee_connection_f32 {
   uint64_t storage[OMNEE_CONNECTION_F32_WORDS];
 } omnee_connection_f32;
 
+// A phase function (opaque; make it with an `omnee_phase_*_f32`
+// constructor; copy it freely). A table's phase function refers to the
+// caller's arrays.
+typedef struct omnee_phase_f32 {
+  uint64_t tag;
+  uint64_t storage[OMNEE_PHASE_F32_WORDS];
+} omnee_phase_f32;
+
 // A point or direction `(x, y, z)`.
 typedef struct omnee_vec3_f32 {
   // x.
@@ -195,6 +221,24 @@ typedef struct omnee_vec3_f32 {
   // z.
   float z;
 } omnee_vec3_f32;
+
+// One bridge drawn by `omnee_bridge_sample_*` (the core's `BridgeSample`); its
+// `k` inner vertices are in the caller's array.
+typedef struct omnee_bridge_f32 {
+  // The number of inner vertices k, in [1, OMNEE_MAX_VERTICES].
+  size_t k;
+  // The path's total length D = d_1 + … + d_{k+1} (m).
+  float length;
+  // The density in the product of volume measures (1/m^{3k}),
+  // s³ k! Π q(θ_i) / (Π d_j² D^{k+1}); finite (saturating).
+  float pdf;
+  // Π p(θ_i)/q(θ_i): 1 for phase functions that sample exactly.
+  float phase_ratio;
+  // The kernel Π p(θ_i) / Π d_j² over pdf, (p/q) D^{k+1}/(s³ k!);
+  // finite and ≥ 0 (saturating). `omnee_bridge_estimate_*` multiplies in
+  // σs^k e^{−σt D} without forming the huge factors alone.
+  float weight;
+} omnee_bridge_f32;
 
 // An error, written by a function that fails (status < 0) when the caller
 // passes a non-NULL `omnee_error *`; untouched on success. Caller-owned,
@@ -219,6 +263,14 @@ typedef struct omnee_connection_f64 {
   uint64_t storage[OMNEE_CONNECTION_F64_WORDS];
 } omnee_connection_f64;
 
+// A phase function (opaque; make it with an `omnee_phase_*_f64`
+// constructor; copy it freely). A table's phase function refers to the
+// caller's arrays.
+typedef struct omnee_phase_f64 {
+  uint64_t tag;
+  uint64_t storage[OMNEE_PHASE_F64_WORDS];
+} omnee_phase_f64;
+
 // A point or direction `(x, y, z)`.
 typedef struct omnee_vec3_f64 {
   // x.
@@ -229,13 +281,71 @@ typedef struct omnee_vec3_f64 {
   double z;
 } omnee_vec3_f64;
 
-// A phase function (opaque; make it with an `omnee_phase_*_f32`
-// constructor; copy it freely). A table's phase function refers to the
-// caller's arrays.
-typedef struct omnee_phase_f32 {
+// One bridge drawn by `omnee_bridge_sample_*` (the core's `BridgeSample`); its
+// `k` inner vertices are in the caller's array.
+typedef struct omnee_bridge_f64 {
+  // The number of inner vertices k, in [1, OMNEE_MAX_VERTICES].
+  size_t k;
+  // The path's total length D = d_1 + … + d_{k+1} (m).
+  double length;
+  // The density in the product of volume measures (1/m^{3k}),
+  // s³ k! Π q(θ_i) / (Π d_j² D^{k+1}); finite (saturating).
+  double pdf;
+  // Π p(θ_i)/q(θ_i): 1 for phase functions that sample exactly.
+  double phase_ratio;
+  // The kernel Π p(θ_i) / Π d_j² over pdf, (p/q) D^{k+1}/(s³ k!);
+  // finite and ≥ 0 (saturating). `omnee_bridge_estimate_*` multiplies in
+  // σs^k e^{−σt D} without forming the huge factors alone.
+  double weight;
+} omnee_bridge_f64;
+
+// The point-to-point problem: a connection in a homogeneous medium, with
+// an optional receiver cosine (opaque; make it with
+// `omnee_problem_init_f32`; copy it freely).
+typedef struct omnee_problem_f32 {
   uint64_t tag;
-  uint64_t storage[OMNEE_PHASE_F32_WORDS];
-} omnee_phase_f32;
+  uint64_t storage[OMNEE_PROBLEM_F32_WORDS];
+} omnee_problem_f32;
+
+// The point-to-point problem: a connection in a homogeneous medium, with
+// an optional receiver cosine (opaque; make it with
+// `omnee_problem_init_f64`; copy it freely).
+typedef struct omnee_problem_f64 {
+  uint64_t tag;
+  uint64_t storage[OMNEE_PROBLEM_F64_WORDS];
+} omnee_problem_f64;
+
+// The distribution of the number of bridge vertices k ∈ [1, k_max]
+// (opaque; make it with `omnee_vertex_count_init_f32`; copy it freely).
+typedef struct omnee_vertex_count_f32 {
+  uint64_t tag;
+  uint64_t storage[OMNEE_VERTEX_COUNT_F32_WORDS];
+} omnee_vertex_count_f32;
+
+// The distribution of the number of bridge vertices k ∈ [1, k_max]
+// (opaque; make it with `omnee_vertex_count_init_f64`; copy it freely).
+typedef struct omnee_vertex_count_f64 {
+  uint64_t tag;
+  uint64_t storage[OMNEE_VERTEX_COUNT_F64_WORDS];
+} omnee_vertex_count_f64;
+
+// A number of bridge vertices drawn by `omnee_vertex_count_sample_*`: `k`
+// and the probability P(k) with which it was drawn.
+typedef struct omnee_vertex_draw_f32 {
+  // The number of inner vertices k.
+  size_t k;
+  // P(k), in (0, 1].
+  float probability;
+} omnee_vertex_draw_f32;
+
+// A number of bridge vertices drawn by `omnee_vertex_count_sample_*`: `k`
+// and the probability P(k) with which it was drawn.
+typedef struct omnee_vertex_draw_f64 {
+  // The number of inner vertices k.
+  size_t k;
+  // P(k), in (0, 1].
+  double probability;
+} omnee_vertex_draw_f64;
 
 // Points by coordinate: point `i` is `(x[i], y[i], z[i])`.
 typedef struct omnee_points_f32 {
@@ -294,14 +404,6 @@ typedef struct omnee_samples_f32 {
   // The number of lanes.
   size_t len;
 } omnee_samples_f32;
-
-// A phase function (opaque; make it with an `omnee_phase_*_f64`
-// constructor; copy it freely). A table's phase function refers to the
-// caller's arrays.
-typedef struct omnee_phase_f64 {
-  uint64_t tag;
-  uint64_t storage[OMNEE_PHASE_F64_WORDS];
-} omnee_phase_f64;
 
 // Points by coordinate: point `i` is `(x[i], y[i], z[i])`.
 typedef struct omnee_points_f64 {
@@ -431,22 +533,6 @@ typedef struct omnee_deflection_f64 {
   double one_plus_cos;
 } omnee_deflection_f64;
 
-// The point-to-point problem: a connection in a homogeneous medium, with
-// an optional receiver cosine (opaque; make it with
-// `omnee_problem_init_f32`; copy it freely).
-typedef struct omnee_problem_f32 {
-  uint64_t tag;
-  uint64_t storage[OMNEE_PROBLEM_F32_WORDS];
-} omnee_problem_f32;
-
-// The point-to-point problem: a connection in a homogeneous medium, with
-// an optional receiver cosine (opaque; make it with
-// `omnee_problem_init_f64`; copy it freely).
-typedef struct omnee_problem_f64 {
-  uint64_t tag;
-  uint64_t storage[OMNEE_PROBLEM_F64_WORDS];
-} omnee_problem_f64;
-
 // A sampled scattering vertex (the core's `Sample`).
 typedef struct omnee_sample_f32 {
   // The vertex x1.
@@ -526,6 +612,199 @@ typedef struct omnee_vertices_f32 {
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
+
+// Draws a bridge of `k` inner vertices x_1 … x_k from x0 to x2 of
+// `connection` (whose θmax must be π, else `OMNEE_ERROR_OUT_OF_RANGE`,
+// field "theta_max"), with `phase` at every vertex (docs/math.md §14): a
+// chain of k + 1 edges with deflections from the phase function and edge
+// proportions uniform on the simplex, turned and scaled about x0 until it
+// ends at x2. `u` points to 3k numbers in [0, 1], three per vertex
+// (u_θ, u_φ, u_t); `vertices` to `capacity` ≥ k points, of which the first
+// k receive the vertices. `*sample_out` gets k, the length D, the density
+// pdf = s³ k! Π q(θ_i) / (Π d_j² D^{k+1}) in the product of volume
+// measures and the weight (p/q) D^{k+1}/(s³ k!).
+//
+// `OMNEE_NONE` when the numbers map to no contributing path (an edge of
+// length 0): the sample and `vertices[0..k)` are zero. On an error
+// (k = 0 or > OMNEE_MAX_VERTICES and u or vertices NULL:
+// `OMNEE_ERROR_OUT_OF_RANGE`/`_NULL`; capacity < k: `OMNEE_ERROR_OUT_OF_RANGE`,
+// field "capacity"; a NaN or infinite u: `OMNEE_ERROR_NOT_FINITE`; u outside
+// [0, 1]: `OMNEE_ERROR_OUT_OF_RANGE`; `vertices` overlapping `u`:
+// `OMNEE_ERROR_TABLE`) the sample is zeroed and `vertices` is left as it was.
+//
+// # Safety
+// `u` is NULL or points to 3k floats; `vertices` is NULL or points to
+// `capacity` writable points.
+omnee_status omnee_bridge_sample_f32(const struct omnee_connection_f32 *connection,
+                                     const struct omnee_phase_f32 *phase,
+                                     size_t k,
+                                     const float *u,
+                                     struct omnee_vec3_f32 *vertices,
+                                     size_t capacity,
+                                     struct omnee_bridge_f32 *sample_out,
+                                     struct omnee_error *error);
+
+// `omnee_bridge_sample_f32` in double precision.
+//
+// # Safety
+// `u` is NULL or points to 3k doubles; `vertices` is NULL or points to
+// `capacity` writable points.
+omnee_status omnee_bridge_sample_f64(const struct omnee_connection_f64 *connection,
+                                     const struct omnee_phase_f64 *phase,
+                                     size_t k,
+                                     const double *u,
+                                     struct omnee_vec3_f64 *vertices,
+                                     size_t capacity,
+                                     struct omnee_bridge_f64 *sample_out,
+                                     struct omnee_error *error);
+
+// The density of `omnee_bridge_sample_*` at the path x0, `vertices[0..k)`,
+// x2 of `connection` (θmax = π) with `phase`:
+// s³ k! Π q(θ_i) / (Π d_j² D^{k+1}) (docs/math.md §14.4), 0 where two
+// consecutive points coincide. k ∈ [1, OMNEE_MAX_VERTICES]; `vertices`
+// points to k finite points (`OMNEE_ERROR_NOT_FINITE`, field "vertices").
+//
+// # Safety
+// `vertices` is NULL or points to k points.
+omnee_status omnee_bridge_pdf_f32(const struct omnee_connection_f32 *connection,
+                                  const struct omnee_phase_f32 *phase,
+                                  size_t k,
+                                  const struct omnee_vec3_f32 *vertices,
+                                  float *pdf,
+                                  struct omnee_error *error);
+
+// `omnee_bridge_pdf_f32` in double precision.
+//
+// # Safety
+// `vertices` is NULL or points to k points.
+omnee_status omnee_bridge_pdf_f64(const struct omnee_connection_f64 *connection,
+                                  const struct omnee_phase_f64 *phase,
+                                  size_t k,
+                                  const struct omnee_vec3_f64 *vertices,
+                                  double *pdf,
+                                  struct omnee_error *error);
+
+// The uniform numbers that `omnee_bridge_sample_*` maps to the path x0,
+// `vertices[0..k)`, x2 of `connection` (θmax = π) with `phase`, written to
+// `u[0..3k)` (three per vertex, as `omnee_bridge_sample_*` reads them);
+// `capacity` is u's length, at least 3k. `OMNEE_NONE` (u[0..3k) zero) where
+// the map has no inverse: coincident points, a first deflection of 0 or π,
+// or a phase function whose sampler is not invertible (mixtures). On an
+// error (k out of range, capacity < 3k, NULL, a NaN vertex, u overlapping
+// the vertices) u is left as it was.
+//
+// # Safety
+// `vertices` is NULL or points to k points; `u` is NULL or points to
+// `capacity` writable numbers.
+omnee_status omnee_bridge_invert_f32(const struct omnee_connection_f32 *connection,
+                                     const struct omnee_phase_f32 *phase,
+                                     size_t k,
+                                     const struct omnee_vec3_f32 *vertices,
+                                     float *u,
+                                     size_t capacity,
+                                     struct omnee_error *error);
+
+// `omnee_bridge_invert_f32` in double precision.
+//
+// # Safety
+// `vertices` is NULL or points to k points; `u` is NULL or points to
+// `capacity` writable numbers.
+omnee_status omnee_bridge_invert_f64(const struct omnee_connection_f64 *connection,
+                                     const struct omnee_phase_f64 *phase,
+                                     size_t k,
+                                     const struct omnee_vec3_f64 *vertices,
+                                     double *u,
+                                     size_t capacity,
+                                     struct omnee_error *error);
+
+// One estimate of I_k = ∫…∫ Π σs p(θ_i) e^{−σt D} / (d_1² ⋯ d_{k+1}²) dx_1 ⋯ dx_k
+// for the problem's medium (σs, σt; θmax = π and no receiver cosine, else
+// `OMNEE_ERROR_OUT_OF_RANGE` / `OMNEE_ERROR_UNSUPPORTED`) from a bridge of
+// `omnee_bridge_sample_*` drawn for the problem's connection:
+// σs^k e^{−σt D} · weight, evaluated without forming D^{k+1} or e^{−σt D}
+// alone (docs/math.md §14.5); finite and ≥ 0 (0 where it underflows).
+// `sample` must hold k ∈ [0, OMNEE_MAX_VERTICES] and finite, non-negative
+// numbers (`OMNEE_ERROR_OUT_OF_RANGE`, field "sample.k" or "sample"); the
+// zero sample of `OMNEE_NONE` (k = 0) estimates 0.
+omnee_status omnee_bridge_estimate_f32(const struct omnee_problem_f32 *problem,
+                                       const struct omnee_bridge_f32 *sample,
+                                       float *estimate,
+                                       struct omnee_error *error);
+
+// `omnee_bridge_estimate_f32` in double precision.
+omnee_status omnee_bridge_estimate_f64(const struct omnee_problem_f64 *problem,
+                                       const struct omnee_bridge_f64 *sample,
+                                       double *estimate,
+                                       struct omnee_error *error);
+
+// The exact I_k for isotropic scattering in the problem's medium (θmax = π,
+// no receiver cosine) between its end points, s = |x2 − x0|, by adaptive
+// quadrature of the 1-D integral of docs/math.md §14.6 (relative accuracy
+// about 1e-10), in double precision whatever the problem's. k ∈
+// [1, OMNEE_MAX_VERTICES]; σt > 0 for k ≥ 2 (`OMNEE_ERROR_OUT_OF_RANGE`,
+// field "sigma_t": without extinction the integral diverges). Its cost is
+// bounded by `budget` evaluations of the integrand
+// (`OMNEE_REFERENCE_BUDGET` is the default, tens of milliseconds at most):
+// a quadrature that spends it returns `OMNEE_ERROR_NOT_CONVERGED` (field
+// "reference") and `*reference` = 0.
+omnee_status omnee_bridge_reference_f32(const struct omnee_problem_f32 *problem,
+                                        size_t k,
+                                        size_t budget,
+                                        double *reference,
+                                        struct omnee_error *error);
+
+// `omnee_bridge_reference_f32` for a double-precision problem.
+omnee_status omnee_bridge_reference_f64(const struct omnee_problem_f64 *problem,
+                                        size_t k,
+                                        size_t budget,
+                                        double *reference,
+                                        struct omnee_error *error);
+
+// The distribution of the number of bridge vertices k ∈ [1, `k_max`]
+// (`k_max` ≤ OMNEE_MAX_VERTICES) for the problem's connection and medium and
+// `phase`'s mean cosine g (docs/math.md §14.7): a Poisson distribution of
+// mean μ = σs s (1 + (1 − |g|) σt s / 2) truncated to [1, k_max], mixed with
+// the uniform one for the share 0.2. Drawing k, then a bridge of k
+// vertices, and dividing its estimate by P(k) estimates Σ_{k=1}^{k_max} I_k
+// without bias. The problem's θmax and receiver cosine are not used.
+omnee_status omnee_vertex_count_init_f32(struct omnee_vertex_count_f32 *count,
+                                         const struct omnee_problem_f32 *problem,
+                                         const struct omnee_phase_f32 *phase,
+                                         size_t k_max,
+                                         struct omnee_error *error);
+
+// `omnee_vertex_count_init_f32` in double precision.
+omnee_status omnee_vertex_count_init_f64(struct omnee_vertex_count_f64 *count,
+                                         const struct omnee_problem_f64 *problem,
+                                         const struct omnee_phase_f64 *phase,
+                                         size_t k_max,
+                                         struct omnee_error *error);
+
+// Draws k by inversion of the distribution's table from `u` ∈ [0, 1)
+// (`u` = 1 gives k_max; NaN: `OMNEE_ERROR_NOT_FINITE`, outside [0, 1]:
+// `OMNEE_ERROR_OUT_OF_RANGE`), with its probability P(k).
+omnee_status omnee_vertex_count_sample_f32(const struct omnee_vertex_count_f32 *count,
+                                           float u,
+                                           struct omnee_vertex_draw_f32 *draw,
+                                           struct omnee_error *error);
+
+// `omnee_vertex_count_sample_f32` in double precision.
+omnee_status omnee_vertex_count_sample_f64(const struct omnee_vertex_count_f64 *count,
+                                           double u,
+                                           struct omnee_vertex_draw_f64 *draw,
+                                           struct omnee_error *error);
+
+// P(k) of the distribution: 0 for k outside [1, k_max].
+omnee_status omnee_vertex_count_pmf_f32(const struct omnee_vertex_count_f32 *count,
+                                        size_t k,
+                                        float *probability,
+                                        struct omnee_error *error);
+
+// `omnee_vertex_count_pmf_f32` in double precision.
+omnee_status omnee_vertex_count_pmf_f64(const struct omnee_vertex_count_f64 *count,
+                                        size_t k,
+                                        double *probability,
+                                        struct omnee_error *error);
 
 // Makes the connection from `x0` (light side) to `x2` (receiver side),
 // restricted to deflections θ < `theta_max` ∈ (0, π] (π/2: forward

@@ -10,7 +10,8 @@
 //! - [`status`]: `omnee_status` and the caller-owned `omnee_error` record;
 //! - [`types`]: the plain-old-data structs and the opaque objects;
 //! - [`connection`], [`phase`], [`techniques`], [`problem`],
-//!   [`connections`] (the batch over connections): the
+//!   [`connections`] (the batch over connections), [`bridge`] (bridges of
+//!   k vertices, the number k, the isotropic reference): the
 //!   exported functions, each pair (`_f32`, `_f64`) a thin shell around one
 //!   generic function;
 //! - `args`: checks that turn C arguments into the core's values;
@@ -38,6 +39,7 @@ extern crate std;
 
 mod args;
 mod boundary;
+pub mod bridge;
 pub mod connection;
 pub mod connections;
 pub mod phase;

@@ -5,6 +5,7 @@
 
 use crate::boundary::{pack, unpack, words};
 use core::mem::MaybeUninit;
+use omnee_core::bridge::{BridgeSample, VertexCount};
 use omnee_core::phase::{Deflection, Phase};
 use omnee_core::real::{Real, Vector};
 use omnee_core::reference::PointToPoint;
@@ -185,6 +186,61 @@ pub struct omnee_vertices_f32 {
     pub len: usize,
 }
 
+/// One bridge drawn by `omnee_bridge_sample_*` (the core's `BridgeSample`); its
+/// `k` inner vertices are in the caller's array.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct omnee_bridge<F> {
+    /// The number of inner vertices k, in [1, OMNEE_MAX_VERTICES].
+    pub k: usize,
+    /// The path's total length D = d_1 + … + d_{k+1} (m).
+    pub length: F,
+    /// The density in the product of volume measures (1/m^{3k}),
+    /// s³ k! Π q(θ_i) / (Π d_j² D^{k+1}); finite (saturating).
+    pub pdf: F,
+    /// Π p(θ_i)/q(θ_i): 1 for phase functions that sample exactly.
+    pub phase_ratio: F,
+    /// The kernel Π p(θ_i) / Π d_j² over pdf, (p/q) D^{k+1}/(s³ k!);
+    /// finite and ≥ 0 (saturating). `omnee_bridge_estimate_*` multiplies in
+    /// σs^k e^{−σt D} without forming the huge factors alone.
+    pub weight: F,
+}
+
+impl<F: Real> omnee_bridge<F> {
+    /// From the core's sample.
+    pub(crate) fn from_core(s: BridgeSample<F>) -> Self {
+        Self {
+            k: s.k,
+            length: s.length,
+            pdf: s.pdf,
+            phase_ratio: s.phase_ratio,
+            weight: s.weight,
+        }
+    }
+
+    /// The core's sample.
+    pub(crate) fn get(self) -> BridgeSample<F> {
+        BridgeSample {
+            k: self.k,
+            length: self.length,
+            pdf: self.pdf,
+            phase_ratio: self.phase_ratio,
+            weight: self.weight,
+        }
+    }
+}
+
+/// A number of bridge vertices drawn by `omnee_vertex_count_sample_*`: `k`
+/// and the probability P(k) with which it was drawn.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct omnee_vertex_draw<F> {
+    /// The number of inner vertices k.
+    pub k: usize,
+    /// P(k), in (0, 1].
+    pub probability: F,
+}
+
 /// A part of a string: `length` bytes from byte `offset`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -293,6 +349,10 @@ pub const OMNEE_PHASE_F64_WORDS: usize = 10;
 pub const OMNEE_PROBLEM_F32_WORDS: usize = 14;
 /// 64-bit words of storage in `omnee_problem_f64`.
 pub const OMNEE_PROBLEM_F64_WORDS: usize = 27;
+/// 64-bit words of storage in `omnee_vertex_count_f32`.
+pub const OMNEE_VERTEX_COUNT_F32_WORDS: usize = 18;
+/// 64-bit words of storage in `omnee_vertex_count_f64`.
+pub const OMNEE_VERTEX_COUNT_F64_WORDS: usize = 34;
 
 // The constants above are the core's sizes on 64-bit targets, rounded up to
 // whole words (32-bit targets need at most as much; `pack` checks every
@@ -312,6 +372,8 @@ const _: () = {
     let _: [(); OMNEE_PHASE_F64_WORDS] = [(); words(size_of::<Phase<'static, f64>>())];
     let _: [(); OMNEE_PROBLEM_F32_WORDS] = [(); words(size_of::<PointToPoint<f32>>())];
     let _: [(); OMNEE_PROBLEM_F64_WORDS] = [(); words(size_of::<PointToPoint<f64>>())];
+    let _: [(); OMNEE_VERTEX_COUNT_F32_WORDS] = [(); words(size_of::<VertexCount<f32>>())];
+    let _: [(); OMNEE_VERTEX_COUNT_F64_WORDS] = [(); words(size_of::<VertexCount<f64>>())];
 };
 
 /// The end points x0, x2 and the restriction θ < θmax (opaque; make it with
@@ -408,6 +470,36 @@ object!(
     "problem"
 );
 
+/// The distribution of the number of bridge vertices k ∈ [1, k_max]
+/// (opaque; make it with `omnee_vertex_count_init_f32`; copy it freely).
+#[repr(C)]
+pub struct omnee_vertex_count_f32 {
+    tag: u64,
+    storage: MaybeUninit<[u64; OMNEE_VERTEX_COUNT_F32_WORDS]>,
+}
+object!(
+    omnee_vertex_count_f32,
+    VertexCount<f32>,
+    OMNEE_VERTEX_COUNT_F32_WORDS,
+    b"omVtc32\0",
+    "count"
+);
+
+/// The distribution of the number of bridge vertices k ∈ [1, k_max]
+/// (opaque; make it with `omnee_vertex_count_init_f64`; copy it freely).
+#[repr(C)]
+pub struct omnee_vertex_count_f64 {
+    tag: u64,
+    storage: MaybeUninit<[u64; OMNEE_VERTEX_COUNT_F64_WORDS]>,
+}
+object!(
+    omnee_vertex_count_f64,
+    VertexCount<f64>,
+    OMNEE_VERTEX_COUNT_F64_WORDS,
+    b"omVtc64\0",
+    "count"
+);
+
 /// The precisions of the C API and their opaque types.
 pub(crate) trait Precision: Real {
     /// `omnee_connection_*`.
@@ -416,16 +508,20 @@ pub(crate) trait Precision: Real {
     type Phase: Object<Value = Phase<'static, Self>>;
     /// `omnee_problem_*`.
     type Problem: Object<Value = PointToPoint<Self>>;
+    /// `omnee_vertex_count_*`.
+    type VertexCount: Object<Value = VertexCount<Self>>;
 }
 
 impl Precision for f32 {
     type Connection = omnee_connection_f32;
     type Phase = omnee_phase_f32;
     type Problem = omnee_problem_f32;
+    type VertexCount = omnee_vertex_count_f32;
 }
 
 impl Precision for f64 {
     type Connection = omnee_connection_f64;
     type Phase = omnee_phase_f64;
     type Problem = omnee_problem_f64;
+    type VertexCount = omnee_vertex_count_f64;
 }

@@ -1,14 +1,42 @@
 //! The errors of the core and of the library's validation as Python exceptions:
 //! bad input is a `ValueError` whose message names the field, its value and
-//! the allowed range (the Rust error's text, unchanged).
+//! the allowed range (the Rust error's text, unchanged); a quadrature
+//! reference that spent its evaluation budget is `omnee.NotConvergedError`.
 
 use omnee_render::RenderError;
-use pyo3::PyErr;
 use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::{PyErr, PyResult};
 
-/// A core constructor's refusal: `ValueError("g = 1.5 is out of range; allowed: (-1, 1)")`.
+pyo3::create_exception!(
+    omnee,
+    NotConvergedError,
+    pyo3::exceptions::PyRuntimeError,
+    "A quadrature reference spent its evaluation budget before meeting its \
+     tolerance (the core's `Error::NotConverged`): no value is returned. A \
+     `RuntimeError`: the input was valid, the reference could not be computed \
+     within its bounded cost."
+);
+
+/// A core constructor's refusal: `ValueError("g = 1.5 is out of range; allowed: (-1, 1)")`;
+/// a spent quadrature budget: `NotConvergedError("reference: the quadrature
+/// did not converge within its budget of N evaluations")`.
 pub fn core(e: omnee_core::Error) -> PyErr {
-    PyValueError::new_err(e.to_string())
+    match e {
+        omnee_core::Error::NotConverged { .. } => NotConvergedError::new_err(e.to_string()),
+        _ => PyValueError::new_err(e.to_string()),
+    }
+}
+
+/// The reference that [`omnee_render::point::estimate::estimate`] reports:
+/// the one-vertex quadrature returns NaN exactly when it spent its budget
+/// (the core's `PointToPoint::integral`), which is `NotConvergedError`.
+pub fn reference(value: Option<f64>) -> PyResult<Option<f64>> {
+    match value {
+        Some(v) if v.is_nan() => Err(NotConvergedError::new_err(
+            "reference: the quadrature did not converge within its budget",
+        )),
+        v => Ok(v),
+    }
 }
 
 /// The library's validation: bad input is a `ValueError`, a file that

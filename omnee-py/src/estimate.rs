@@ -8,12 +8,14 @@
 
 use crate::error;
 use crate::phase::Phase;
+use omnee_core::bridge::MAX_VERTICES;
 use omnee_core::method::Choice;
 use omnee_core::names::Named;
 use omnee_render::error::Spelling;
 use omnee_render::parallel::with_threads;
 use omnee_render::point::estimate::estimate as run;
 use omnee_render::point::problem::{Precision, Problem};
+use omnee_render::vertices::{DEFAULT_MAX_VERTICES, VertexNumber};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use std::f64::consts::PI;
@@ -105,6 +107,60 @@ fn count(field: &str, n: i128, allowed: &str) -> PyResult<usize> {
         })
 }
 
+/// The number of vertices from `vertices` (an integer K in [1, 32], or
+/// `"auto"`; `None`: 1) and `max_vertices` (the largest K of `"auto"`, in
+/// [1, 32], default 8; refused with a fixed K).
+fn vertex_number(
+    vertices: Option<&Bound<'_, PyAny>>,
+    max_vertices: Option<i128>,
+) -> PyResult<VertexNumber> {
+    let allowed = format!("an integer K in [1, {MAX_VERTICES}] or \"auto\"");
+    let max = match max_vertices {
+        None => None,
+        Some(m) => Some(
+            usize::try_from(m)
+                .ok()
+                .filter(|m| (1..=MAX_VERTICES).contains(m))
+                .ok_or_else(|| {
+                    PyValueError::new_err(format!(
+                        "max_vertices = {m} is out of range; allowed: [1, {MAX_VERTICES}]"
+                    ))
+                })?,
+        ),
+    };
+    let number = match vertices {
+        None => VertexNumber::Fixed(1),
+        Some(v) => {
+            if let Ok(text) = v.extract::<String>() {
+                VertexNumber::parse(&text, max.unwrap_or(DEFAULT_MAX_VERTICES)).map_err(|_| {
+                    PyValueError::new_err(format!("vertices = {text:?}; allowed: {allowed}"))
+                })?
+            } else if let Ok(k) = v.extract::<i128>() {
+                let k = usize::try_from(k)
+                    .ok()
+                    .filter(|k| (1..=MAX_VERTICES).contains(k))
+                    .ok_or_else(|| {
+                        PyValueError::new_err(format!(
+                            "vertices = {k} is out of range; allowed: [1, {MAX_VERTICES}]"
+                        ))
+                    })?;
+                VertexNumber::Fixed(k)
+            } else {
+                return Err(PyTypeError::new_err(format!(
+                    "vertices: expected {allowed}, got {}",
+                    v.get_type().name()?
+                )));
+            }
+        }
+    };
+    match (number, max) {
+        (VertexNumber::Fixed(k), Some(m)) => Err(PyValueError::new_err(format!(
+            "max_vertices = {m} applies to vertices=\"auto\" only (vertices = {k}); allowed: None"
+        ))),
+        (n, _) => Ok(n),
+    }
+}
+
 /// The once-more scattered transfer from a unit point light at `x0` to a
 /// point receiver at `x2` through an infinite homogeneous medium,
 ///
@@ -116,16 +172,29 @@ fn count(field: &str, n: i128, allowed: &str) -> PyResult<usize> {
 /// standard error. `dtype` is the precision of the draws: float64 (the
 /// default) or float32 (the renderer's, `omnee estimate`'s default).
 /// `reference=True` adds the f64 quadrature value of `I` (docs/math.md §5).
+/// A reference that spends its evaluation budget raises
+/// `omnee.NotConvergedError` (a `RuntimeError`).
+///
+/// `vertices=K` (an integer in [1, 32]; default 1, the once-more integral)
+/// estimates instead the transfer of K scattering vertices by bridges
+/// (docs/math.md §14),
+/// `I_K = ∫…∫ Π σs p(θ_i) e^{−σt (d_1 + … + d_{K+1})} / (d_1² ⋯ d_{K+1}²) dx_1 ⋯ dx_K`,
+/// and `vertices="auto"` the sum of `I_K` over K = 1 … `max_vertices`
+/// (default 8) with K drawn per sample; both take θmax = π, no receiver
+/// normal and `technique="auto"`, and their reference is the isotropic
+/// closed form (`phase` "iso" or "hg:0"; any other phase function with
+/// `reference=True` is a `ValueError`: pass `reference=False`).
 /// Ctrl-C raises `KeyboardInterrupt` within milliseconds (the draws stop
 /// at their next chunk). Returns `Estimate(mean, stderr, reference, technique,
 /// auto_reason, samples, accepted, mean_cosine, tau, seconds)`.
 #[pyfunction]
 #[pyo3(signature = (
     *, x0, x2, sigma_s, sigma_t, phase = None, technique = "auto", samples = 100_000, seed = 1,
-    theta_max = PI, receiver_normal = None, dtype = None, reference = true, threads = 0
+    theta_max = PI, receiver_normal = None, dtype = None, reference = true, threads = 0,
+    vertices = None, max_vertices = None
 ), text_signature = "(*, x0, x2, sigma_s, sigma_t, phase=None, technique='auto', samples=100000, \
     seed=1, theta_max=3.141592653589793, receiver_normal=None, dtype=None, reference=True, \
-    threads=0)")]
+    threads=0, vertices=1, max_vertices=None)")]
 #[allow(clippy::too_many_arguments)]
 pub fn estimate<'py>(
     py: Python<'py>,
@@ -142,6 +211,8 @@ pub fn estimate<'py>(
     dtype: Option<&Bound<'py, PyAny>>,
     reference: bool,
     threads: i128,
+    vertices: Option<&Bound<'py, PyAny>>,
+    max_vertices: Option<i128>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let phase = match phase {
         Some(p) => crate::technique::phase_arg(p)?,
@@ -165,7 +236,7 @@ pub fn estimate<'py>(
         },
         x0_phase: None,
         x0_incoming: None,
-        vertices: Default::default(),
+        vertices: vertex_number(vertices, max_vertices)?,
     };
     let samples = unsigned("samples", samples, "[1, 2^40]")?;
     let threads = count("threads", threads, "[0, 1024], 0: one per core")?;
@@ -179,7 +250,7 @@ pub fn estimate<'py>(
     py.import("omnee")?.getattr("Estimate")?.call1((
         e.mean,
         e.stderr,
-        e.reference,
+        error::reference(e.reference)?,
         e.technique.used.name(),
         e.technique.reason.map(|r| r.to_string()),
         e.samples,

@@ -9,7 +9,12 @@
 //!   `Distance`, `Mis`: `sample(u)`, `pdf(x1)`, `invert(x1)` over arrays of
 //!   uniform tuples or points;
 //! - `estimate` (module `estimate`): the point-to-point integral of `omnee estimate`,
-//!   the same numbers for the same seed.
+//!   the same numbers for the same seed; with `vertices=K` (or `"auto"`) the
+//!   transfer of K scattering vertices by bridges;
+//! - `Bridge` (module `bridge`): bridges of k vertices, `sample(u)` and
+//!   `pdf(vertices)` over arrays, and `isotropic_transfer`, the exact `I_k`
+//!   for isotropic scattering;
+//! - `NotConvergedError` (module `error`): a reference that spent its budget.
 //!
 //! A float32 array is computed in f32 and answered in float32, anything
 //! else accepted in f64 (module `array`). The GIL is released while the core
@@ -19,6 +24,7 @@
 
 mod array;
 mod batch;
+mod bridge;
 mod chunks;
 mod config;
 mod error;
@@ -39,7 +45,14 @@ fn _omnee(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<technique::Equiangular>()?;
     m.add_class::<technique::Distance>()?;
     m.add_class::<technique::Mis>()?;
+    m.add_class::<bridge::Bridge>()?;
+    m.add_class::<bridge::VertexCount>()?;
     m.add_function(wrap_pyfunction!(estimate::estimate, m)?)?;
+    m.add_function(wrap_pyfunction!(bridge::isotropic_transfer_py, m)?)?;
+    m.add(
+        "NotConvergedError",
+        m.py().get_type::<error::NotConvergedError>(),
+    )?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

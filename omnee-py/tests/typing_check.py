@@ -42,6 +42,22 @@ def main() -> None:
     )
     reference: Optional[float] = e.reference
     print(weights.sum(), g, theta, inverse.valid, same, d.dimension, e.mean, reference)
+    print(bridges(rng.random((100, 3, 3))))
+
+
+def bridges(u: npt.NDArray[np.float64]) -> float:
+    """I_3 by bridges, by hand and by estimate, against the closed form."""
+    b = omnee.Bridge(x0=(0, 0, 1), x2=(0, 0, 0), phase=omnee.Phase("iso"))
+    s: omnee.BridgeSamples = b.sample(u)
+    density = np.asarray(b.pdf(s.vertices))
+    assert density.shape == s.pdf.shape
+    by_hand = float(np.mean(0.5**3 * np.exp(-0.55 * s.length) * s.weight))
+    e = omnee.estimate(x0=(0, 0, 1), x2=(0, 0, 0), sigma_s=0.5, sigma_t=0.55, vertices="auto", max_vertices=4)
+    try:
+        closed = omnee.isotropic_transfer(3, s=1.0, sigma_s=0.5, sigma_t=0.55, budget=10)
+    except omnee.NotConvergedError:
+        closed = omnee.isotropic_transfer(3, s=1.0, sigma_s=0.5, sigma_t=0.55)
+    return by_hand - closed + e.mean
 
 
 if __name__ == "__main__":

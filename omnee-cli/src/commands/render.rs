@@ -21,7 +21,7 @@ use omnee_render::image::{Layers, tone_map};
 use omnee_render::parallel::with_threads;
 use omnee_render::phase::PhaseSampling;
 use omnee_render::render::Rendered;
-use omnee_render::render::budget::Budget;
+use omnee_render::render::budget::RenderBudget;
 use omnee_render::scenes::underwater::UNDERWATER_TERMS;
 use omnee_render::scenes::{RenderReport, RenderSettings, Scene, SceneStats, Source};
 use omnee_render::vertices::VertexNumber;
@@ -171,9 +171,9 @@ impl RenderArgs {
             ));
         }
         if let Some(n) = self.spp {
-            s.budget = Budget::Spp(n);
+            s.budget = RenderBudget::Spp(n);
         } else if let Some(t) = self.time {
-            s.budget = Budget::Seconds(t);
+            s.budget = RenderBudget::Seconds(t);
         }
         if let Some((w, h)) = self.resolution {
             (s.width, s.height) = (w, h);
@@ -326,7 +326,7 @@ fn summary_json(
                 .map(|(t, n)| (t.to_string(), json!(n)))
                 .collect();
             v["stats"] = json!({
-                "paths": st.paths, "outside_region": st.outside_region,
+                "paths": st.paths, "no_start": st.no_start, "beyond_core": st.beyond_core,
                 "lost_at_surface": st.lost_at_surface, "floor_hits": st.floor_hits,
                 "splats": splats, "no_vertex": st.no_vertex, "surface_tests": st.surface_tests,
             });
@@ -375,10 +375,11 @@ fn summary_text(
                 out.seconds
             ));
             say(&format!(
-                "light paths {}: outside the lit region {}, lost at the surface {}, on the floor {}; \
-                 splats: {}; no once-more vertex {}; wave-band tests {}",
+                "light paths {}: no start point {}, started beyond the core region {}, lost at the surface {}, \
+                 on the floor {}; splats: {}; no once-more vertex {}; wave-band tests {}",
                 st.paths,
-                st.outside_region,
+                st.no_start,
+                st.beyond_core,
                 st.lost_at_surface,
                 st.floor_hits,
                 st.splats_by_term(),

@@ -217,6 +217,42 @@ fn bad_underwater_input_exits_2_naming_the_field_and_writes_nothing() {
         );
         assert_eq!(files_in(dir.path()), vec!["bad.toml".to_string()], "{to}");
     }
+    // The start density's parameters: importance only, but out of range is
+    // still a named error.
+    for (from, to, want) in [
+        (
+            "margin = 1.0",
+            "margin = -0.5",
+            "render.margin = -0.5 is out of range; allowed: [0, 1000]",
+        ),
+        (
+            "margin = 1.0",
+            "margin = 1e5",
+            "render.margin = 100000 is out of range; allowed: [0, 1000]",
+        ),
+        (
+            "max_distance = 30.0",
+            "max_distance = 0.0",
+            "render.max_distance = 0 is out of range; allowed: (0, 10000]",
+        ),
+        (
+            "eye_share = 0.2",
+            "eye_share = 0.35",
+            "render.eye_share = 0.35 is out of range",
+        ),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        assert!(UNDERWATER_SCENE.contains(from), "{from}");
+        std::fs::write(
+            dir.path().join("bad.toml"),
+            UNDERWATER_SCENE.replacen(from, to, 1),
+        )
+        .unwrap();
+        let o = run_in(dir.path(), &["render", "--scene", "bad.toml", "-o", "out"]);
+        assert_eq!(o.status.code(), Some(2), "{to}: {}", stderr(&o));
+        assert!(stderr(&o).contains(want), "{to}: {}", stderr(&o));
+        assert_eq!(files_in(dir.path()), vec!["bad.toml".to_string()], "{to}");
+    }
     // Options that do not fit the scene.
     let dir = tempfile::tempdir().unwrap();
     for (args, want) in [

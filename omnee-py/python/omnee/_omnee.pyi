@@ -14,9 +14,22 @@ import numpy as np
 import numpy.typing as npt
 from typing_extensions import disjoint_base
 
-from . import Estimate, Inversion, Samples
+from . import BridgeSamples, Estimate, Inversion, Samples
 
-__all__ = ["Phase", "Technique", "Omnee", "Equiangular", "Distance", "Mis", "estimate", "__version__"]
+__all__ = [
+    "Phase",
+    "Technique",
+    "Omnee",
+    "Equiangular",
+    "Distance",
+    "Mis",
+    "estimate",
+    "Bridge",
+    "VertexCount",
+    "isotropic_transfer",
+    "NotConvergedError",
+    "__version__",
+]
 
 _ArrayLike = npt.ArrayLike
 _FloatArray = npt.NDArray[np.floating[Any]]
@@ -222,6 +235,8 @@ def estimate(
     dtype: Optional[npt.DTypeLike] = None,
     reference: bool = True,
     threads: int = 0,
+    vertices: Union[int, str] = 1,
+    max_vertices: Optional[int] = None,
 ) -> Estimate:
     """The once-more scattered transfer from a unit point light at x0 to a
     point receiver at x2 through an infinite homogeneous medium,
@@ -231,3 +246,58 @@ def estimate(
     float64 (default) or float32; ``phase`` default ``iso``; ``threads`` 0:
     one per core), with the f64 quadrature reference when ``reference`` is
     True. Ctrl-C interrupts it between chunks of draws."""
+
+class NotConvergedError(RuntimeError):
+    """A quadrature reference spent its evaluation budget before meeting its
+    tolerance: no value is returned (the input was valid)."""
+
+@final
+class Bridge:
+    """Bridges of k scattering vertices between x0 and x2 with ``phase`` at
+    every vertex (docs/math.md §14); density
+    ``s³ k! Π q(θ_i) / (Π d_j² D^{k+1})`` in the product of volume measures."""
+
+    def __new__(cls, *, x0: _Point, x2: _Point, phase: Optional[_PhaseLike] = None) -> "Bridge": ...
+    def sample(self, u: _ArrayLike) -> BridgeSamples:
+        """Bridges from ``u`` of shape ``(..., k, 3)`` in [0, 1], k in [1, 32]."""
+    def pdf(self, vertices: _ArrayLike) -> Any:
+        """The density of ``sample`` at the paths ``x0, vertices[..., :, :], x2``."""
+    def invert(self, vertices: _ArrayLike) -> Inversion:
+        """The uniform numbers ``sample`` maps to the paths: ``Inversion(u, valid)``,
+        ``u`` of shape ``(..., k, 3)``."""
+    @property
+    def x0(self) -> Tuple[float, float, float]: ...
+    @property
+    def x2(self) -> Tuple[float, float, float]: ...
+    @property
+    def phase(self) -> Phase: ...
+
+@final
+class VertexCount:
+    """The number of bridge vertices k in [1, k_max] drawn per connection: a
+    Poisson distribution of mean ``μ = σs s (1 + (1 − |g|) σt s / 2)``
+    truncated to [1, k_max], mixed with the uniform one for the share 0.2."""
+
+    def __new__(
+        cls,
+        k_max: int = 8,
+        *,
+        s: float,
+        sigma_s: float,
+        sigma_t: float,
+        phase: Optional[_PhaseLike] = None,
+    ) -> "VertexCount": ...
+    def sample(self, u: _ArrayLike) -> Tuple[Any, Any]:
+        """``(k, P(k))`` (int64, float64) for each uniform number of ``u`` in [0, 1]."""
+    def pmf(self, k: _ArrayLike) -> Any:
+        """``P(k)``, 0 outside [1, k_max]."""
+    @property
+    def k_max(self) -> int: ...
+    @property
+    def mean(self) -> float: ...
+
+def isotropic_transfer(
+    k: int, *, s: float, sigma_s: float, sigma_t: float, budget: int = 1000000
+) -> float:
+    """The exact I_k for isotropic scattering (docs/math.md §14.6); raises
+    ``NotConvergedError`` when the quadrature spends ``budget`` evaluations."""

@@ -14,7 +14,7 @@ pub mod budget;
 use crate::error::{RenderError, Result};
 use crate::image::Layers;
 use crate::parallel::map_items_with;
-use budget::Budget;
+use budget::RenderBudget;
 use glam::Vec3;
 use omnee_core::term::Term;
 use std::sync::atomic::AtomicBool;
@@ -111,7 +111,7 @@ impl Sums {
 #[derive(Clone, Copy, Debug)]
 pub struct Options {
     /// Passes, or a time budget.
-    pub budget: Budget,
+    pub budget: RenderBudget,
     /// Random seed.
     pub seed: u64,
     /// Pixel window `[x0, x1) × [y0, y1)` kept; the rest stays 0. Every
@@ -306,7 +306,7 @@ mod tests {
     fn passes_are_counted_and_the_crop_is_kept() {
         let cancel = AtomicBool::new(false);
         let options = Options {
-            budget: Budget::Spp(3),
+            budget: RenderBudget::Spp(3),
             seed: 7,
             crop: [1, 0, 4, 4],
         };
@@ -325,7 +325,7 @@ mod tests {
     fn a_cancelled_render_stops_with_an_error() {
         let cancel = AtomicBool::new(true);
         let options = Options {
-            budget: Budget::Spp(1000),
+            budget: RenderBudget::Spp(1000),
             seed: 7,
             crop: [0, 0, 5, 4],
         };

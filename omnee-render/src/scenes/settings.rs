@@ -6,7 +6,7 @@
 use crate::error::{RenderError, Result, Spelling};
 use crate::phase::PhaseSampling;
 use crate::range::Range;
-use crate::render::budget::{Budget, MAX_RENDER_SAMPLES, MAX_SECONDS, MAX_SPP};
+use crate::render::budget::{MAX_RENDER_SAMPLES, MAX_SECONDS, MAX_SPP, RenderBudget};
 use crate::technique::Resolved;
 use crate::vertices::VertexNumber;
 use omnee_core::method::{Choice, MultipleMethod};
@@ -19,7 +19,7 @@ use omnee_core::term::Term;
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderSettings {
     /// Samples (passes) per pixel, or a time budget.
-    pub budget: Budget,
+    pub budget: RenderBudget,
     /// Random seed.
     pub seed: u64,
     /// Image width in pixels.
@@ -81,7 +81,7 @@ impl RenderSettings {
     ) -> Result<()> {
         let window = self.window(spelling)?;
         match self.budget {
-            Budget::Spp(n) => {
+            RenderBudget::Spp(n) => {
                 // At most 2²⁴ passes and 2⁴⁰ samples over the window.
                 let pixels = u64::from(window[2] - window[0]) * u64::from(window[3] - window[1]);
                 let most = (MAX_RENDER_SAMPLES / pixels.max(1)).clamp(1, u64::from(MAX_SPP));
@@ -96,7 +96,7 @@ impl RenderSettings {
                     ));
                 }
             }
-            Budget::Seconds(t) => {
+            RenderBudget::Seconds(t) => {
                 Range::open_closed(0.0, MAX_SECONDS).check(&spelling.of("time"), t)?;
             }
         }

@@ -11,7 +11,7 @@ use super::{SlabScene, SlabStats};
 use crate::camera::Pinhole;
 use crate::error::{RenderError, Result};
 use crate::phase::TableStorage;
-use crate::render::budget::Budget;
+use crate::render::budget::RenderBudget;
 use crate::render::{Integrator, Options, Progress, Rendered, Sums};
 use crate::rng::Rng;
 use crate::scenes::settings::{RenderReport, RenderSettings};
@@ -204,7 +204,7 @@ impl SlabScene {
     pub fn settings(&self) -> RenderSettings {
         let r = &self.render;
         RenderSettings {
-            budget: Budget::Spp(r.spp),
+            budget: RenderBudget::Spp(r.spp),
             seed: r.seed,
             width: self.camera.width,
             height: self.camera.height,

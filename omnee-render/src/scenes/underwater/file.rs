@@ -76,11 +76,14 @@ pub struct UnderwaterSettings {
     /// Shaft vertices for a refracted sun ray whose image spans the field of
     /// view; proportionally fewer (at least one) for shorter ones.
     pub shaft_samples: u32,
-    /// Growth of the lit region around what the camera sees (m).
+    /// Growth of the start density's core region around what the camera
+    /// sees (m): where paths go, never the image's mean.
     pub margin: f64,
-    /// Reach of the lit region and of camera-ray sampling from the eye (m).
+    /// How far from the eye the core region reaches (m), and the longest
+    /// tail length of the start density: where paths go, never the mean.
     pub max_distance: f64,
-    /// Share of light paths aimed through the image.
+    /// Share of light paths aimed through the image (the rest minus
+    /// `eye_share` start from the defensive density, over the whole plane).
     pub camera_share: f64,
     /// Share of light paths aimed past the eye.
     pub eye_share: f64,
@@ -391,8 +394,8 @@ fn parse_render(root: &toml::Table) -> Result<UnderwaterSettings> {
         shafts_once_more,
         once_more_samples: r.integer("once_more_samples", 4, 1, 1024)? as u32,
         shaft_samples: r.integer("shaft_samples", 16, 1, 1024)? as u32,
-        margin: r.number("margin", Some(1.0), Range::NON_NEGATIVE)?,
-        max_distance: r.number("max_distance", Some(30.0), Range::POSITIVE)?,
+        margin: r.number("margin", Some(1.0), Range::closed(0.0, 1000.0))?,
+        max_distance: r.number("max_distance", Some(30.0), Range::open_closed(0.0, 10000.0))?,
         camera_share: r.number("camera_share", Some(0.65), Range::closed(0.0, 1.0))?,
         eye_share: r.number("eye_share", Some(0.2), Range::closed(0.0, 1.0))?,
         eye_radius: r.number("eye_radius", Some(2.0), Range::POSITIVE)?,
@@ -409,7 +412,7 @@ fn parse_render(root: &toml::Table) -> Result<UnderwaterSettings> {
             "render.eye_share",
             settings.eye_share,
             format!(
-                "[0, 1 - render.camera_share) = [0, {}): some paths must start uniformly on the lit region",
+                "[0, 1 - render.camera_share) = [0, {}): some paths must start from the density that covers the whole surface",
                 1.0 - settings.camera_share
             ),
         ));

@@ -33,7 +33,7 @@ pub use transport::{UNDERWATER_TERMS, UnderwaterStats, UnderwaterWorld};
 use crate::camera::Pinhole;
 use crate::error::Result;
 use crate::phase::TableStorage;
-use crate::render::budget::Budget;
+use crate::render::budget::RenderBudget;
 use crate::render::{Options, Progress, Rendered};
 use crate::scenes::settings::{RenderReport, RenderSettings};
 use crate::technique::Resolved;
@@ -78,6 +78,21 @@ pub fn skip_notes(scene: &UnderwaterScene) -> Vec<String> {
     notes
 }
 
+/// The defensive start density's tail length ℓ (docs/math.md §13.4): the
+/// mean free path `1/σt` of the clearest channel, at most `max_distance`
+/// (which also stands in for it in water that does not attenuate). With
+/// ℓ σt ≥ 1 in every channel, the tail's density falls no faster than the
+/// light a path far away can still bring to the eye.
+pub fn tail_length(scene: &UnderwaterScene) -> f32 {
+    let clearest = scene.water.sigma_t.min_element();
+    let reach = scene.render.max_distance as f32;
+    if clearest > 0.0 {
+        (1.0 / clearest).min(reach)
+    } else {
+        reach
+    }
+}
+
 impl<'a> UnderwaterWorld<'a> {
     /// The scene at `width × height` with its phase function instantiated by
     /// the caller, the terms to evaluate, and the once-more technique
@@ -109,8 +124,7 @@ impl<'a> UnderwaterWorld<'a> {
             floor: scene.floor,
             camera,
             region: transport::LightRegion {
-                lo: glam::Vec2::ZERO,
-                hi: glam::Vec2::ONE,
+                tail: transport::TailedRect::new(glam::Vec2::ZERO, glam::Vec2::ONE, 1.0),
                 offset: glam::Vec2::ZERO,
                 z_top: 0.0,
                 beam: glam::Vec3::NEG_Z,
@@ -139,7 +153,7 @@ impl<'a> UnderwaterWorld<'a> {
             eye: r.eye_share as f32,
             eye_radius: r.eye_radius as f32,
         };
-        world.region = world.light_region(r.margin as f32, aim);
+        world.region = world.light_region(r.margin as f32, tail_length(scene), aim);
         world
     }
 }
@@ -149,7 +163,7 @@ impl UnderwaterScene {
     pub fn settings(&self) -> RenderSettings {
         let r = &self.render;
         RenderSettings {
-            budget: Budget::Spp(r.spp),
+            budget: RenderBudget::Spp(r.spp),
             seed: r.seed,
             width: self.camera.width,
             height: self.camera.height,

@@ -1,8 +1,9 @@
 //! Where light paths start: the floor point `x_f` each path aims at, drawn
-//! through the image, past the eye or uniformly on the lit region, and its
-//! density (docs/math.md §13.4).
+//! through the image, past the eye, or from the defensive density that
+//! covers the whole plane, and its density (docs/math.md §13.4).
 
 use super::UnderwaterWorld;
+use super::tail::TailedRect;
 use crate::camera::Pinhole;
 use crate::scenes::underwater::optics::refract;
 use crate::scenes::underwater::sun::Sun;
@@ -12,7 +13,9 @@ use glam::{Vec2, Vec3};
 /// with probability `camera` through a uniform point of the image's cells
 /// that see the floor ([`FloorCells`]), with
 /// probability `eye` on a beam passing the eye at a distance uniform in
-/// `[0, eye_radius]`, else uniformly on the region.
+/// `[0, eye_radius]`, else from the defensive density ([`TailedRect`]),
+/// which is positive on the whole plane. The shares change where paths go,
+/// never the mean.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aim {
     /// Share of paths aimed through the image.
@@ -35,7 +38,7 @@ pub struct Aim {
 /// The margin is what keeps the light paths' weights bounded under waves:
 /// a refracted ray lands on the floor up to half a metre from the point
 /// `x_f` it was aimed at, so without it a path aimed just outside the image
-/// (by the uniform share alone, about 10³ times less dense than the
+/// (by the defensive share alone, about 10³ times less dense than the
 /// image's share there) lands in it and carries 10³ times the power of its
 /// neighbours: the white speckle along the image's edges (docs/math.md §13.4).
 #[derive(Clone, Debug)]
@@ -147,17 +150,17 @@ impl FloorCells {
     }
 }
 
-/// The region of the floor whose flat-water sun rays light the light paths:
-/// `x_f ∈ [lo, hi]`, the point a sun ray would reach on the floor through a
-/// flat surface. A path starts at `x_s = x_f − offset` on the plane
-/// `z_top` above every crest; the offset is the flat-water displacement of
-/// the sun's central direction, so `x_s` and `x_f` have the same density.
+/// Where light paths start: the floor point `x_f` a path aims at, the
+/// point a sun ray would reach on the floor through a flat surface. A path
+/// starts at `x_s = x_f − offset` on the plane `z_top` above every crest;
+/// the offset is the flat-water displacement of the sun's central
+/// direction, so `x_s` and `x_f` have the same density. The sun lights the
+/// whole plane; the core rectangle `R` (what the camera sees, carried down
+/// to the floor, grown by the margin) only shapes the defensive density.
 #[derive(Clone, Debug)]
 pub struct LightRegion {
-    /// Lower corner of the rectangle on the floor.
-    pub lo: Vec2,
-    /// Upper corner.
-    pub hi: Vec2,
+    /// The defensive density: uniform on the core `R`, heavy-tailed outside.
+    pub tail: TailedRect,
     /// `x_f − x_s` for the sun's central direction.
     pub offset: Vec2,
     /// The start plane's height.
@@ -168,19 +171,6 @@ pub struct LightRegion {
     pub aim: Aim,
     /// The image cells that see the floor, for the paths aimed through the image.
     pub cells: FloorCells,
-}
-
-impl LightRegion {
-    /// The rectangle's area.
-    pub fn area(&self) -> f32 {
-        let e = self.hi - self.lo;
-        e.x * e.y
-    }
-
-    /// Whether `p` is inside the rectangle.
-    pub fn contains(&self, p: Vec2) -> bool {
-        p.x >= self.lo.x && p.y >= self.lo.y && p.x <= self.hi.x && p.y <= self.hi.y
-    }
 }
 
 /// The deflection of the central sun ray after a flat surface, and the
@@ -200,12 +190,12 @@ pub fn flat_water_offset(
 }
 
 impl UnderwaterWorld<'_> {
-    /// The region of the floor whose flat-water sun rays cross what the
-    /// camera sees out to `max_distance`: the camera's rays on a 17 × 17
-    /// grid of the image, followed to the floor, the troughs' plane or
-    /// `max_distance`, with points along them carried down to the floor along
-    /// the refracted central sun ray; their bounding box grown by `margin`.
-    pub fn light_region(&self, margin: f32, aim: Aim) -> LightRegion {
+    /// Where paths start. The core rectangle `R`: the camera's rays on a
+    /// 17 × 17 grid of the image, followed to the floor, the crests' plane
+    /// or `max_distance`, with points along them carried down to the floor
+    /// along the refracted central sun ray; their bounding box grown by
+    /// `margin`. The defensive density's tail length `ell`.
+    pub fn light_region(&self, margin: f32, ell: f32, aim: Aim) -> LightRegion {
         let z_top = self.surface.crest();
         let (dt, offset) =
             flat_water_offset(&self.sun, self.ior, self.surface.z, z_top, self.floor.z);
@@ -219,7 +209,7 @@ impl UnderwaterWorld<'_> {
                     c.width as f32 * i as f32 / n as f32,
                     c.height as f32 * j as f32 / n as f32,
                 );
-                let t_end = self.water_segment(c.eye, d);
+                let t_end = self.water_segment(c.eye, d).min(self.max_distance);
                 for k in 0..=8 {
                     let q = to_floor(c.eye + d * (t_end * k as f32 / 8.0));
                     lo = lo.min(q);
@@ -228,8 +218,7 @@ impl UnderwaterWorld<'_> {
             }
         }
         LightRegion {
-            lo: lo - Vec2::splat(margin),
-            hi: hi + Vec2::splat(margin),
+            tail: TailedRect::new(lo - Vec2::splat(margin), hi + Vec2::splat(margin), ell),
             offset,
             z_top,
             beam: dt,
@@ -238,8 +227,9 @@ impl UnderwaterWorld<'_> {
         }
     }
 
-    /// The density in floor area of the floor point `x_f` a light path aims at: on the
-    /// rectangle `R`, `c q_cam(x_f) + e q_eye(x_f) + (1 − c − e)/|R|`, with
+    /// The density in floor area of the floor point `x_f` a light path aims
+    /// at, on the whole plane: `c q_cam(x_f) + e q_eye(x_f) + (1 − c − e) q_R(x_f)`,
+    /// with `q_R` the defensive density ([`TailedRect::pdf`]),
     /// `q_cam = w_k cos θ0 / (d² · f 4wh · cos³θ)` the density of the floor
     /// point hit by an image point drawn from the [`FloorCells`] (cell `k`
     /// of weight `w_k`, `f = Σ w / 768`; `dω = cos θ0 dA/d²`,
@@ -249,10 +239,7 @@ impl UnderwaterWorld<'_> {
     /// in the plane across the beam, whose area is `cos θt` times the floor's).
     pub fn start_pdf(&self, xf: Vec3) -> f32 {
         let r = &self.region;
-        if !r.contains(xf.truncate()) {
-            return 0.0;
-        }
-        let uniform = (1.0 - r.aim.camera - r.aim.eye) / r.area();
+        let defensive = (1.0 - r.aim.camera - r.aim.eye) * r.tail.pdf(xf.truncate());
         let c = &self.camera;
         let v = c.eye - xf;
         // The image points that see the floor cover `fraction · 4wh` of the plane.
@@ -271,11 +258,11 @@ impl UnderwaterWorld<'_> {
         } else {
             0.0
         };
-        r.aim.camera * cam + r.aim.eye * eye + uniform
+        r.aim.camera * cam + r.aim.eye * eye + defensive
     }
 
-    /// The floor point `x_f` a light path aims at (see [`Aim`]); `None`
-    /// outside the rectangle (or for an image point above the horizon).
+    /// The floor point `x_f` a light path aims at (see [`Aim`]); `None` for
+    /// an image point whose ray looks up (an event of density 0 on the floor).
     pub(super) fn start(&self, u: [f32; 3]) -> Option<Vec3> {
         let r = &self.region;
         let c = &self.camera;
@@ -294,10 +281,13 @@ impl UnderwaterWorld<'_> {
             let q = c.eye + (e1 * cos + e2 * sin) * (u[1] * r.aim.eye_radius);
             q + r.beam * ((self.floor.z - q.z) / r.beam.z)
         } else {
-            let e = r.hi - r.lo;
-            Vec3::new(r.lo.x + u[1] * e.x, r.lo.y + u[2] * e.y, self.floor.z)
+            // The rest of `u[0]`'s interval picks the defensive density's piece.
+            let rest = 1.0 - r.aim.camera - r.aim.eye;
+            let v = ((u[0] - r.aim.camera - r.aim.eye) / rest).clamp(0.0, 1.0);
+            r.tail.sample([v, u[1], u[2]]).extend(self.floor.z)
         };
+        // A ray grazing the floor meets it beyond f32's range: no start.
         let xf = xf.truncate().extend(self.floor.z);
-        r.contains(xf.truncate()).then_some(xf)
+        xf.is_finite().then_some(xf)
     }
 }

@@ -3,6 +3,8 @@
 //! file per idea:
 //!
 //! - [`aim`]: where light paths start and the density they start with;
+//! - [`tail`]: the defensive part of that density, which covers the whole
+//!   plane, so that no sunlight is cut;
 //! - [`caustics`]: `caustics`, the floor point `x0` straight to the eye, and
 //!   `caustics-once-more`, `x0 → x1 → eye` with `x1` placed by the once-more
 //!   technique, the blur with depth;
@@ -12,8 +14,8 @@
 //!   function's lobe at them.
 //!
 //! This file holds the light path itself ([`UnderwaterWorld::trace`]) and what the
-//! terms share. Each light path is one sample of the sun's flux through a
-//! region of the surface; every term splats its contribution to the pixel
+//! terms share. Each light path is one sample of the sun's flux through the
+//! whole (infinite) surface; every term splats its contribution to the pixel
 //! its last vertex projects to, with the camera's importance
 //! ([`crate::camera`]).
 
@@ -21,10 +23,12 @@ pub mod aim;
 pub mod caustics;
 pub mod shafts;
 pub mod shafts_once_more;
+pub mod tail;
 
 pub use aim::{Aim, FloorCells, LightRegion, flat_water_offset};
 pub use caustics::{CausticsMethod, CausticsTechnique};
 pub use shafts::ShaftSampling;
+pub use tail::TailedRect;
 
 use super::optics::{fresnel_transmittance, refract};
 use super::sun::Sun;
@@ -87,8 +91,13 @@ pub struct Splat {
 pub struct UnderwaterStats {
     /// Light paths started.
     pub paths: u64,
-    /// Paths whose start point fell outside the lit region (no work).
-    pub outside_region: u64,
+    /// Paths aimed through the image at a point whose ray looks up: no
+    /// start point on the floor (no work).
+    pub no_start: u64,
+    /// Paths that started outside the core rectangle of the defensive
+    /// density (in its tail, or aimed through the image or past the eye
+    /// beyond it).
+    pub beyond_core: u64,
     /// Paths lost at the surface: refracted back out through a crest
     /// before reaching the troughs' depth, or met from below.
     pub lost_at_surface: u64,
@@ -117,7 +126,8 @@ impl UnderwaterStats {
 impl Counters for UnderwaterStats {
     fn add(&mut self, o: &UnderwaterStats) {
         self.paths += o.paths;
-        self.outside_region += o.outside_region;
+        self.no_start += o.no_start;
+        self.beyond_core += o.beyond_core;
         self.lost_at_surface += o.lost_at_surface;
         self.floor_hits += o.floor_hits;
         for (a, b) in self.splats.iter_mut().zip(o.splats) {
@@ -146,7 +156,7 @@ pub struct UnderwaterWorld<'a> {
     pub camera: Pinhole,
     /// Where light paths start.
     pub region: LightRegion,
-    /// Farthest distance from the eye that the camera-ray techniques sample (m).
+    /// How far from the eye the core rectangle of the start density reaches (m).
     pub max_distance: f32,
     /// Which terms to evaluate, in the order of [`UNDERWATER_TERMS`].
     pub terms: [bool; 4],
@@ -165,16 +175,15 @@ pub struct UnderwaterWorld<'a> {
 
 impl UnderwaterWorld<'_> {
     /// The length of the ray `o + t d` from the eye through the water band
-    /// below the crests and above the floor, capped at `max_distance`.
+    /// below the crests and above the floor (infinite for a level ray).
     fn water_segment(&self, o: Vec3, d: Vec3) -> f32 {
-        let t = if d.z < 0.0 {
+        if d.z < 0.0 {
             (self.floor.z - o.z) / d.z
         } else if d.z > 0.0 {
             (self.surface.crest() - o.z) / d.z
         } else {
             f32::INFINITY
-        };
-        t.min(self.max_distance)
+        }
     }
 
     /// Whether `x` is in the water: above the floor, below the surface.
@@ -228,9 +237,12 @@ impl UnderwaterWorld<'_> {
     pub fn trace(&self, rng: &mut Rng, out: &mut Vec<Splat>, stats: &mut UnderwaterStats) {
         stats.paths += 1;
         let Some(xf) = self.start(uniform3(rng)) else {
-            stats.outside_region += 1;
+            stats.no_start += 1;
             return;
         };
+        if !self.region.tail.contains(xf.truncate()) {
+            stats.beyond_core += 1;
+        }
         let (to_sun, flux_factor) = self.sun.sample([rng.uniform(), rng.uniform()]);
         // Flux through the start plane: L Ω (ω · z) / pdf(x_s).
         let power = flux_factor * to_sun.z / self.start_pdf(xf);
