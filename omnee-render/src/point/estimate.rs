@@ -399,6 +399,47 @@ mod tests {
     }
 
     #[test]
+    fn extreme_scales_give_the_scaled_reference_or_a_named_error() {
+        // f32 at s = 1e-30 with σ ∝ 1/s: per-draw products near 1e59,
+        // beyond f32, multiplied in f64. |z| < 5.5 (tail 3.8e-8).
+        let s = 1e-30;
+        let p = Problem {
+            x2: [0.0, 0.0, s],
+            sigma_s: 0.5 / s,
+            sigma_t: 0.55 / s,
+            ..problem(Choice::Omnee, None, None)
+        };
+        let e = run(&p, 20_000, true).unwrap();
+        let want = e.reference.unwrap();
+        assert!((e.mean - want).abs() < 5.5 * e.stderr, "{e:?}");
+        assert!((e.tau - 0.55).abs() < 1e-9);
+        // f64 at s = 1e-300 with σs = 5e299: a transfer of 1e600.
+        let p = Problem {
+            x2: [0.0, 0.0, 1e-300],
+            sigma_s: 5e299,
+            sigma_t: 5.5e299,
+            precision: Precision::F64,
+            ..p
+        };
+        let m = run(&p, 100, true).unwrap_err().to_string();
+        assert!(m.starts_with("x0/x2/sigma_s: the estimate"), "{m}");
+        // A normal of subnormal length is its direction.
+        let p = Problem {
+            receiver_normal: Some([0.0, 0.0, -5e-324]),
+            ..plain()
+        };
+        let e = run(&p, 100, false).unwrap();
+        assert_eq!(e.receiver_normal, Some([0.0, 0.0, -1.0]));
+        let m = crate::parallel::with_threads(usize::MAX, || ())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            m.starts_with("threads = ") && m.contains("[0, 1024]"),
+            "{m}"
+        );
+    }
+
+    #[test]
     fn a_cancelled_estimate_stops_with_an_error() {
         let stop = AtomicBool::new(true);
         let e = estimate(&plain(), 1 << 40, false, Spelling::Fields, &stop);
