@@ -323,3 +323,8 @@ pub fn vec3<F: Real>(a: [f64; 3]) -> F::Vec3 {
     use omnee_core::Vector;
     F::Vec3::new(F::from_f64(a[0]), F::from_f64(a[1]), F::from_f64(a[2]))
 }
+
+/// The bits of `x` with `-0.0` as `0.0`, so that equal values hash alike.
+pub fn canonical(x: f64) -> u64 {
+    if x == 0.0 { 0 } else { x.to_bits() }
+}

@@ -3,7 +3,7 @@
 //! and σt; checked in f64 when the technique is made, built in the
 //! computing precision for each call, compared and hashed by value.
 
-use crate::array::{Floats, shape_text, slice, vec3};
+use crate::array::{Floats, canonical, shape_text, slice, vec3};
 use crate::chunks::run;
 use crate::error;
 use crate::kernel::{Context, Coords, Geometry};
@@ -144,11 +144,6 @@ impl End {
 /// The three coordinates of a point in f64.
 fn point<F: Real>(a: &[F]) -> [f64; 3] {
     [a[0].to_f64(), a[1].to_f64(), a[2].to_f64()]
-}
-
-/// The bits of `x` with `-0.0` as `0.0`, so that equal values hash alike.
-pub fn canonical(x: f64) -> u64 {
-    if x == 0.0 { 0 } else { x.to_bits() }
 }
 
 /// A technique's parameters as given (checked in f64 by

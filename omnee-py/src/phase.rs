@@ -1,9 +1,10 @@
 //! `omnee.Phase`: a phase function from its spec string, evaluated and
 //! sampled elementwise over arrays of deflections θ or uniform numbers u.
 
-use crate::array::{Bad, Floats, first_outside, floats, number, result, slice, slice_mut, zeros};
+use crate::array::{
+    Bad, Floats, canonical, first_outside, floats, number, result, slice, slice_mut, zeros,
+};
 use crate::chunks::{Items, run};
-use crate::config::canonical;
 use crate::error;
 use numpy::{Element, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use omnee_core::Real;

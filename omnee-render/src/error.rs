@@ -87,3 +87,13 @@ impl std::error::Error for RenderError {}
 
 /// The result type of the library.
 pub type Result<T> = std::result::Result<T, RenderError>;
+
+/// The reference's core error (a spent budget), named by `reference`,
+/// with what to do about it.
+pub(crate) fn not_converged(spelling: Spelling, e: omnee_core::Error) -> RenderError {
+    let reference = spelling.of("reference");
+    RenderError::Input(format!(
+        "{reference}: {e}; allowed: a problem whose reference converges (leave out {reference} \
+         to estimate without it)"
+    ))
+}

@@ -10,7 +10,7 @@
 //! bridge ([`Bridge::sample`]), and the estimate `σs^k e^{−σt D} · weight / P(k)`.
 
 use super::problem::{Prepared, vec3};
-use crate::error::{RenderError, Result, core_error};
+use crate::error::{RenderError, Result, core_error, not_converged};
 use crate::moments::Moments;
 use crate::phase::TableStorage;
 use crate::rng::Rng;
@@ -234,7 +234,7 @@ pub fn references(p: &Prepared) -> Result<Vec<f64>> {
                         field: "sigma_t", ..
                     } => p.spelling.list(&["sigma_t"]),
                     omnee_core::Error::NotConverged { .. } => {
-                        return super::estimate::not_converged(p.spelling, e);
+                        return not_converged(p.spelling, e);
                     }
                     _ => p.spelling.list(&["reference"]),
                 };

@@ -6,7 +6,7 @@
 
 use super::bridge::{self, BridgeEstimate};
 use super::problem::{Precision, Prepared, Problem, X0Lobe, contribution};
-use crate::error::{RenderError, Result, Spelling};
+use crate::error::{RenderError, Result, Spelling, not_converged};
 use crate::moments::Moments;
 use crate::parallel::chunked;
 use crate::phase::{PhaseSpec, TableStorage};
@@ -271,16 +271,6 @@ fn quadrature(p: &Prepared) -> Result<f64> {
         p.with_sampler::<f64, _>(|sampler| sampler.problem.try_integral(&phase))?
     };
     value.map_err(|e| not_converged(p.spelling, e))
-}
-
-/// The reference's core error (a spent budget), named by `reference`,
-/// with what to do about it.
-pub(crate) fn not_converged(spelling: Spelling, e: omnee_core::Error) -> RenderError {
-    let reference = spelling.of("reference");
-    RenderError::Input(format!(
-        "{reference}: {e}; allowed: a problem whose reference converges (leave out {reference} \
-         to estimate without it)"
-    ))
 }
 
 #[cfg(test)]
