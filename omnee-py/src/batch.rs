@@ -6,8 +6,7 @@
 //! scalar call on its own connection bit for bit, so a row's vertex is the
 //! vertex a single-connection technique draws from the same numbers.
 
-use crate::array::{Bad, dtype_name, first_outside, number};
-use crate::chunks::{Items, run};
+use crate::array::{Bad, dtype_name};
 use crate::kernel::{Context, Geometry, SampleOut, uniforms, vertices};
 use omnee_core::method::Method;
 use omnee_core::sampling::{Connections, Points, PointsMut, SampleArrays, Uniforms};
@@ -104,35 +103,7 @@ impl<F: Real> Context<'_, F> {
     /// through the core's batch over connections, bit for bit the same.
     pub fn sample_batched(&self, u: &[F], out: SampleOut<'_, F>) -> Result<(), Bad> {
         let (k, v) = (uniforms(self.method), vertices(self.method));
-        let all = (
-            Items { data: u, k },
-            Items {
-                data: out.x1,
-                k: 3 * v,
-            },
-            Items {
-                data: out.pdf,
-                k: v,
-            },
-            Items {
-                data: out.weight,
-                k: v,
-            },
-            Items {
-                data: out.valid,
-                k: v,
-            },
-        );
-        run(all, |start, (u, x1, pdf, weight, valid)| {
-            if let Some((i, x)) = first_outside(u.data, F::ZERO, F::ONE) {
-                let (at, value) = (start * k + i, number(x));
-                return Err(Bad::Element {
-                    arg: "u",
-                    at,
-                    value,
-                    allowed: "[0, 1]",
-                });
-            }
+        self.sample_chunks(u, out, |start, u, out| {
             let mut block = Block::new();
             if let Geometry::One(c) = self.geometry {
                 // The same end points in every lane, once.
@@ -142,13 +113,13 @@ impl<F: Real> Context<'_, F> {
                 }
             }
             let rows = matches!(self.geometry, Geometry::Rows { .. });
-            let n = u.data.len() / k;
+            let n = u.len() / k;
             for first in (0..n).step_by(LANES) {
                 let m = LANES.min(n - first);
                 if rows {
                     self.gather_ends(&mut block, start + first, m);
                 }
-                let numbers = &u.data[first * k..(first + m) * k];
+                let numbers = &u[first * k..(first + m) * k];
                 match k {
                     3 => transpose::<F, 3>(numbers, &mut block.u),
                     _ => transpose::<F, 6>(numbers, &mut block.u),
@@ -162,13 +133,13 @@ impl<F: Real> Context<'_, F> {
                     }
                 }
                 let at = first * v..(first + m) * v;
-                let out = SampleOut {
-                    x1: &mut x1.data[3 * at.start..3 * at.end],
-                    pdf: &mut pdf.data[at.clone()],
-                    weight: &mut weight.data[at.clone()],
-                    valid: &mut valid.data[at],
+                let lanes = SampleOut {
+                    x1: &mut out.x1[3 * at.start..3 * at.end],
+                    pdf: &mut out.pdf[at.clone()],
+                    weight: &mut out.weight[at.clone()],
+                    valid: &mut out.valid[at],
                 };
-                scatter(&block, v, m, out);
+                scatter(&block, v, m, lanes);
             }
             Ok(())
         })

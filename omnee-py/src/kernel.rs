@@ -307,6 +307,34 @@ impl<'a, F: Real> Context<'a, F> {
         out: SampleOut<'_, F>,
     ) -> Result<(), Bad> {
         let (k, v) = (uniforms(self.method), vertices(self.method));
+        self.sample_chunks(u, out, |start, u, out| {
+            let n = u.len() / k;
+            self.each(make, start, n, |kernel, j| {
+                let vertices = kernel.draw(&u[k * j..k * j + k]);
+                for (t, vertex) in vertices[..v].iter().enumerate() {
+                    let (point, values) = match vertex {
+                        Some(s) => (s.x1.to_array(), (s.pdf, s.weight, true)),
+                        None => ([F::ZERO; 3], (F::ZERO, F::ZERO, false)),
+                    };
+                    let at = v * j + t;
+                    out.x1[3 * at..3 * at + 3].copy_from_slice(&point);
+                    (out.pdf[at], out.weight[at], out.valid[at]) = values;
+                }
+            })
+        })
+    }
+
+    /// Runs `body(start, u, out)` over the chunks of a draw: `u`'s rows of
+    /// [`uniforms`] numbers, checked in [0, 1] first (an error naming the
+    /// element), and the chunk's [`vertices`] outputs per row, `start` the
+    /// chunk's first row.
+    pub fn sample_chunks(
+        &self,
+        u: &[F],
+        out: SampleOut<'_, F>,
+        body: impl Fn(usize, &[F], SampleOut<'_, F>) -> Result<(), Bad> + Sync,
+    ) -> Result<(), Bad> {
+        let (k, v) = (uniforms(self.method), vertices(self.method));
         let all = (
             Items { data: u, k },
             Items {
@@ -336,19 +364,13 @@ impl<'a, F: Real> Context<'a, F> {
                     allowed: "[0, 1]",
                 });
             }
-            let n = u.data.len() / k;
-            self.each(make, start, n, |kernel, j| {
-                let vertices = kernel.draw(&u.data[k * j..k * j + k]);
-                for (t, vertex) in vertices[..v].iter().enumerate() {
-                    let (point, values) = match vertex {
-                        Some(s) => (s.x1.to_array(), (s.pdf, s.weight, true)),
-                        None => ([F::ZERO; 3], (F::ZERO, F::ZERO, false)),
-                    };
-                    let at = v * j + t;
-                    x1.data[3 * at..3 * at + 3].copy_from_slice(&point);
-                    (pdf.data[at], weight.data[at], valid.data[at]) = values;
-                }
-            })
+            let out = SampleOut {
+                x1: x1.data,
+                pdf: pdf.data,
+                weight: weight.data,
+                valid: valid.data,
+            };
+            body(start, u.data, out)
         })
     }
 
