@@ -161,6 +161,20 @@ pub fn first_non_finite<F: Real>(data: &[F]) -> Option<(usize, F)> {
         .map(|i| (i, data[i]))
 }
 
+/// Coordinates of `arg` all finite, else an error naming the first other one
+/// at its flat position (`offset` plus its index in `data`).
+pub fn check_finite<F: Real>(arg: &'static str, data: &[F], offset: usize) -> Result<(), Bad> {
+    match first_non_finite(data) {
+        Some((i, value)) => Err(Bad::Element {
+            arg,
+            at: offset + i,
+            value: number(value),
+            allowed: "finite coordinates",
+        }),
+        None => Ok(()),
+    }
+}
+
 /// An element out of its range, found while the GIL was released: its
 /// argument, flat position, value and the allowed range, or the core's
 /// refusal of a row's parameters.

@@ -4,8 +4,8 @@
 //! scattering (the core's [`isotropic_transfer`]).
 
 use crate::array::{
-    Bad, Floats, first_outside, floats, number, rows, shape_text, slice, slice_mut, vec3,
-    with_axes, zeros,
+    Bad, Floats, check_finite, first_outside, floats, number, rows, shape_text, slice, slice_mut,
+    vec3, with_axes, zeros,
 };
 use crate::chunks::{Items, run};
 use crate::error;
@@ -168,15 +168,7 @@ impl Bridge {
         let shape = vertices.shape().to_vec();
         let (k, lead) = order("vertices", &shape)?;
         let data = slice(&vertices);
-        if let Some(at) = data.iter().position(|v| !v.is_finite()) {
-            return Err(Bad::Element {
-                arg: "vertices",
-                at,
-                value: number(data[at]),
-                allowed: "finite coordinates",
-            }
-            .into_err(&shape));
-        }
+        check_finite("vertices", data, 0).map_err(|e| e.into_err(&shape))?;
         let mut storage = TableStorage::<F>::default();
         let bridge = self.core::<F>(&mut storage)?;
         let out = zeros::<F>(py, &lead);
@@ -217,15 +209,7 @@ impl Bridge {
         let shape = vertices.shape().to_vec();
         let (k, lead) = order("vertices", &shape)?;
         let data = slice(&vertices);
-        if let Some(at) = data.iter().position(|v| !v.is_finite()) {
-            return Err(Bad::Element {
-                arg: "vertices",
-                at,
-                value: number(data[at]),
-                allowed: "finite coordinates",
-            }
-            .into_err(&shape));
-        }
+        check_finite("vertices", data, 0).map_err(|e| e.into_err(&shape))?;
         let mut storage = TableStorage::<F>::default();
         let bridge = self.core::<F>(&mut storage)?;
         let (u, valid) = (zeros::<F>(py, &shape), zeros::<bool>(py, &lead));

@@ -7,7 +7,7 @@
 //! `batch`), the same bits. The technique of a connection is made once per
 //! chunk (one connection) or once per row.
 
-use crate::array::{Bad, first_non_finite, first_outside, number, vec3};
+use crate::array::{Bad, check_finite, first_outside, number, vec3};
 use crate::chunks::{Items, run};
 use omnee_core::method::{Method, Setup};
 use omnee_core::mis::OmneeMis;
@@ -430,15 +430,7 @@ impl<'a, F: Real> Context<'a, F> {
 
 /// Points must have finite coordinates.
 fn check_points<F: Real>(x1: &[F], start: usize) -> Result<(), Bad> {
-    match first_non_finite(x1) {
-        Some((i, value)) => Err(Bad::Element {
-            arg: "x1",
-            at: 3 * start + i,
-            value: number(value),
-            allowed: "finite coordinates",
-        }),
-        None => Ok(()),
-    }
+    check_finite("x1", x1, 3 * start)
 }
 
 /// The output arrays of [`Context::sample`], in C order: `x1` (3 per
