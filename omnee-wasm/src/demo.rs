@@ -380,15 +380,15 @@ impl Problem {
     /// statistics.
     pub fn run(&mut self, n: f64) -> Result<(), Error> {
         let n = integer("n", n, 1, MAX_RUN, RUN_RANGE)?;
-        for (i, &technique) in self.techniques().iter().enumerate() {
-            let mut rng = self.rngs[i];
-            let mut stats = self.stats[i];
+        // Copies, written back (the draws borrow `self`).
+        let (mut rngs, mut stats) = (self.rngs, self.stats);
+        for ((&technique, rng), stats) in self.techniques().iter().zip(&mut rngs).zip(&mut stats) {
             for _ in 0..n {
-                let draw = self.draw(technique, &mut rng);
+                let draw = self.draw(technique, rng);
                 stats.push(draw.sum(|s| self.estimate(technique, s)));
             }
-            (self.rngs[i], self.stats[i]) = (rng, stats);
         }
+        (self.rngs, self.stats) = (rngs, stats);
         Ok(())
     }
 
@@ -442,12 +442,9 @@ impl Problem {
                 let radial = p - e * along;
                 let h = radial.length().copysign(radial.dot(normal));
                 let q = axis.x0 + e * along + normal * h;
-                if let Some(point) = out.get_mut(len..len + 3) {
-                    point.copy_from_slice(&[
-                        q.x() as f32,
-                        q.y() as f32,
-                        self.estimate(technique, s) as f32,
-                    ]);
+                if let Some([x, y, f]) = out.get_mut(len..len + 3) {
+                    (*x, *y) = (q.x() as f32, q.y() as f32);
+                    *f = self.estimate(technique, s) as f32;
                     len += 3;
                 }
             }
@@ -564,7 +561,8 @@ pub fn histogram(
         }
     }
     let scale = 1.0 / (f64::from(n) * width);
-    let (sampled, exact) = out.split_at_mut(bins);
+    // (`bins` ≤ the length: the checked split only keeps a panic out of the module.)
+    let (sampled, exact) = out.split_at_mut_checked(bins).unwrap_or_default();
     for c in sampled.iter_mut() {
         *c *= scale;
     }
@@ -759,8 +757,8 @@ pub fn arc(x0: [f64; 2], x2: [f64; 2], theta: f64, segments: f64) -> Result<Vec<
                 field: "theta",
                 reason: "the triangle does not close",
             })?;
-            if let Some(point) = points.next() {
-                point.copy_from_slice(&p);
+            if let Some([x, y]) = points.next() {
+                [*x, *y] = p;
             }
         }
     }
