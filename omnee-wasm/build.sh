@@ -10,10 +10,10 @@ E2E="$WASM_DIR/e2e"
 # The demo's goal: 64 KiB (65,536 B) after wasm-opt (README.md: where the
 # bytes went, and the levers measured). The scale-safe core took the module
 # over it; until the last kilobyte is found again, ci.sh reports the excess
-# over the goal on every run and fails above the gate of 66 KiB, so that
+# over the goal on every run and fails above the gate of 65 KiB, so that
 # the module cannot grow further unnoticed.
 MAX_WASM_BYTES=65536
-GATE_WASM_BYTES=67584
+GATE_WASM_BYTES=66560
 
 # The Wasm features the module may use, for wasm-opt (the target-features
 # section is stripped before wasm-bindgen, below): those of Rust's
