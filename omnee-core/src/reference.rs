@@ -115,7 +115,9 @@ impl<F: Real> PointToPoint<F> {
         budget.finish("reference", value)
     }
 
-    /// The quadrature of [`Self::integral`] against `budget`.
+    /// The quadrature of [`Self::integral`] against `budget`: for a point
+    /// receiver [`Self::point_integral_within`], with a receiver normal the
+    /// integral of the clipped cosine split at its kinks (below).
     ///
     /// With a receiver normal at the angle γ from `x0 − x2`, `Φ(β)` has a
     /// kink wherever the cosine starts or stops clipping over φ:
@@ -126,23 +128,75 @@ impl<F: Real> PointToPoint<F> {
     /// panel costs the adaptive rule its whole depth at every outer node,
     /// which near θ = π ran for hours.
     pub fn integral_within<P: PhaseFunction<f64>>(&self, phase: &P, budget: &Budget) -> f64 {
-        let axis = &self.connection.axis;
-        let s: f64 = cast(axis.s);
-        let sigma_t: f64 = cast(self.medium.sigma_t());
-        let sigma_s: f64 = cast(self.medium.sigma_s());
-        // The f32 θmax = π rounds up (3.14159274 > π): the quadrature stops at
-        // the true π, where the triangle closes.
-        let theta_max: f64 = cast::<F, f64>(self.connection.theta_max).min(core::f64::consts::PI);
-        let gamma = self.receiver_normal.map(|n| {
-            let n = cast_vec::<F, f64>(n);
-            let to_light = -cast_vec::<F, f64>(axis.e);
-            n.cross(to_light).length().atan2(n.dot(to_light))
-        });
-        let kinks = gamma.map_or([f64::NAN; 4], clipping_kinks);
+        match self.receiver_normal {
+            None => self.point_integral_within(phase, budget),
+            Some(n) => self.cosine_integral_within(n, phase, budget),
+        }
+    }
+
+    /// [`Self::integral_within`] for a point receiver, `Φ = 2π` (whatever
+    /// `receiver_normal` holds; it is not read): the r integral in one
+    /// piece, or in a thick medium two with geometric panels towards both
+    /// ends, and the θ integral with geometric panels towards the forward
+    /// peak. A caller that never has a normal (the browser demo) links
+    /// only this, not the cosine's kinks and azimuthal integral.
+    pub fn point_integral_within<P: PhaseFunction<f64>>(&self, phase: &P, budget: &Budget) -> f64 {
+        let (s, sigma_t, sigma_s, theta_max) = self.coefficients();
         let tol = 1e-11;
-        let normal = gamma.map(libm::sincos);
         let inner = |theta: f64| {
-            let sinc_theta = sinc(theta);
+            let tan_half = libm::tan(0.5 * theta);
+            let over_r = |r: f64| {
+                let (sin_x, cos_x) = libm::sincos(theta * r.min(1.0 - r));
+                transmittance(sigma_t, s * (cos_x + tan_half * sin_x)) * core::f64::consts::TAU
+            };
+            let levels = layer_levels(sigma_t * s / sinc(theta));
+            let pieces: &[(f64, f64, Towards)] = if levels > 0 {
+                &[(0.0, 0.5, Towards::Start), (0.5, 1.0, Towards::End)]
+            } else {
+                &[(0.0, 1.0, Towards::Neither)]
+            };
+            budget.integrate_pieces(over_r, pieces, levels, tol)
+        };
+        let outer = |theta: f64| {
+            if theta <= 0.0 {
+                return 0.0;
+            }
+            phase.eval(Deflection::from_theta(theta)) * theta * inner(theta)
+        };
+        let pieces = [(0.0, theta_max, Towards::Start)];
+        sigma_s / s * budget.integrate_pieces(outer, &pieces, 40, tol)
+    }
+
+    /// `(s, σt, σs, θmax)` in f64, θmax at most the true π: the f32
+    /// θmax = π rounds up (3.14159274 > π), and the quadrature stops where
+    /// the triangle closes.
+    fn coefficients(&self) -> (f64, f64, f64, f64) {
+        (
+            cast(self.connection.axis.s),
+            cast(self.medium.sigma_t()),
+            cast(self.medium.sigma_s()),
+            cast::<F, f64>(self.connection.theta_max).min(core::f64::consts::PI),
+        )
+    }
+
+    /// [`Self::integral_within`] with the receiver cosine about the unit
+    /// normal `n`, split at its kinks.
+    fn cosine_integral_within<P: PhaseFunction<f64>>(
+        &self,
+        n: F::Vec3,
+        phase: &P,
+        budget: &Budget,
+    ) -> f64 {
+        let (s, sigma_t, sigma_s, theta_max) = self.coefficients();
+        let gamma = {
+            let n = cast_vec::<F, f64>(n);
+            let to_light = -cast_vec::<F, f64>(self.connection.axis.e);
+            n.cross(to_light).length().atan2(n.dot(to_light))
+        };
+        let kinks = clipping_kinks(gamma);
+        let tol = 1e-11;
+        let (sin_gamma, cos_gamma) = libm::sincos(gamma);
+        let inner = |theta: f64| {
             // d1 + d2 = s (sin β + sin α)/sin θ = s (cos x + tan(θ/2) sin x)
             // with x the smaller of β = rθ and α = (1 − r)θ: smooth in r to
             // the last bits even next to θ = π, where sin β/sin θ of the
@@ -154,15 +208,7 @@ impl<F: Real> PointToPoint<F> {
             let over_r = |r: f64| {
                 let x = theta * r.min(1.0 - r);
                 let (sin_x, cos_x) = libm::sincos(x);
-                let path = s * (cos_x + tan_half * sin_x);
-                let transmittance = if sigma_t > 0.0 {
-                    libm::exp(-sigma_t * path)
-                } else {
-                    1.0
-                };
-                let Some(normal) = normal else {
-                    return transmittance * core::f64::consts::TAU;
-                };
+                let transmittance = transmittance(sigma_t, s * (cos_x + tan_half * sin_x));
                 // (sin β, cos β), for r > ½ from π − β = (π − θ) + α.
                 let (sin_beta, cos_beta) = if r <= 0.5 {
                     (sin_x, cos_x)
@@ -182,20 +228,10 @@ impl<F: Real> PointToPoint<F> {
                     }
                 };
                 let (plus, minus) = (near(0), near(2));
-                let (sin_gamma, cos_gamma) = normal;
                 transmittance
                     * azimuthal_cosine((plus, minus), (sin_beta * sin_gamma, cos_beta * cos_gamma))
             };
-            // Near θ = π the path length is long except close to r = 0 and
-            // r = 1: layers of width ≈ sinc θ / (σt s) at both ends, resolved
-            // by geometric panels towards each end.
-            // (∞ for σt s beyond f64: log2 saturates, so do the levels.)
-            let thickness = sigma_t * s / sinc_theta;
-            let levels = if thickness > 4.0 {
-                (libm::log2(thickness) as u32).saturating_add(4).min(60)
-            } else {
-                0
-            };
+            let levels = layer_levels(sigma_t * s / sinc(theta));
             // Pieces between the kinks r = β_k/θ inside (0, 1) and, in a
             // thick medium, ½ between the two boundary layers, which the
             // pieces at the ends resolve with geometric panels.
@@ -220,6 +256,30 @@ impl<F: Real> PointToPoint<F> {
         let ends = (Towards::Start, Towards::Neither);
         let (pieces, n) = pieces_between(0.0, theta_max, [k0, k1, k2, k3, f64::NAN], ends);
         sigma_s / s * budget.integrate_pieces(outer, pieces.get(..n).unwrap_or(&[]), 40, tol)
+    }
+}
+
+/// The transmittance `e^{−σt ℓ}` along the path length `ℓ = d1 + d2`; 1
+/// without extinction (at any length: `e^{−0 · ∞}` would be NaN).
+fn transmittance(sigma_t: f64, path: f64) -> f64 {
+    if sigma_t > 0.0 {
+        libm::exp(-sigma_t * path)
+    } else {
+        1.0
+    }
+}
+
+/// The levels of geometric panels for the r integral at the deflection θ,
+/// from the optical thickness `σt s / sinc θ`: near θ = π the path length
+/// is long except close to r = 0 and r = 1, layers of width
+/// `≈ sinc θ / (σt s)` at both ends, resolved by geometric panels towards
+/// each end; 0 (one plain piece) up to a thickness of 4. (∞ for σt s
+/// beyond f64: `log2` saturates, so do the levels.)
+fn layer_levels(thickness: f64) -> u32 {
+    if thickness > 4.0 {
+        (libm::log2(thickness) as u32).saturating_add(4).min(60)
+    } else {
+        0
     }
 }
 

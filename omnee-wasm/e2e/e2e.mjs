@@ -177,7 +177,11 @@ try {
   check((await page.locator('#error').textContent()) === '', 'a valid spec clears the error');
 
   // Extreme numbers from JavaScript: an Error naming the field, or finite numbers; never a trap.
-  const extreme = await page.evaluate(async () => {
+  // Counts and seeds arrive as JavaScript numbers: anything but an integer in
+  // range is refused with the field and the range, the number as given (not
+  // taken modulo 2^32: 2^32 + 5 does not run 5 samples).
+  const COUNTS = [2 ** 32 + 5, -1, NaN, 1.5, 1e30, Infinity, 2 ** 24 + 1];
+  const extreme = await page.evaluate(async (COUNTS) => {
     const m = await import('./pkg/omnee_wasm.js');
     const thrown = (f) => { try { f(); return 'no error'; } catch (e) { return e instanceof Error ? e.message : 'not an Error'; } };
     const d = new m.Demo('hg:0.5', 0, 0, 1e-30, 0, 0.5e30, 0.05e30, Math.PI, 1);
@@ -185,9 +189,15 @@ try {
     const e = d.estimate('mis');
     const out = {
       tiny: [e.mean, e.stdError, e.relativeError],
-      counts: [1e30, -1, NaN, Infinity, 2 ** 24 + 1].map((n) => thrown(() => d.run(n))),
-      cloud: thrown(() => d.cloud('omnee', 1e30, 1)),
-      histogram: thrown(() => m.histogram('iso', -1, 8, 1, 1)),
+      counts: COUNTS.map((n) => thrown(() => d.run(n))),
+      ran: d.estimate('omnee').count,
+      cloud: [2 ** 32 + 5, 1.5, 1e30].map((n) => thrown(() => d.cloud('omnee', n, 1))),
+      histogram: [-1, 2 ** 32 + 5].map((n) => thrown(() => m.histogram('iso', n, 8, 1, 1))),
+      bins: [0.5, NaN].map((n) => thrown(() => m.histogram('iso', 10, n, 1, 1))),
+      segments: [2 ** 32 + 8, -8].map((n) => thrown(() => m.arc(0, 0, 1, 0, 1, n))),
+      seeds: [2 ** 32, -1, 0.5, NaN].map((s) => [thrown(() => new m.Demo('iso', 0, 0, 1, 0, 0.1, 0.1, Math.PI, s)),
+        thrown(() => d.cloud('omnee', 10, s)), thrown(() => m.histogram('iso', 10, 8, 1, s))]),
+      seedMax: thrown(() => d.cloud('omnee', 10, 2 ** 32 - 1)),
       nan: [NaN, Infinity, -Infinity].map((x) => thrown(() => new m.Demo('iso', 0, 0, x, 0, 0.1, 0.1, Math.PI, 1))),
       sigma: thrown(() => new m.Demo('iso', 0, 0, 1, 0, NaN, 0.1, Math.PI, 1)),
       huge: thrown(() => new m.Demo('iso', 0, 0, 1e-300, 0, 5e299, 5e298, Math.PI, 1)),
@@ -195,12 +205,22 @@ try {
     };
     d.free();
     return out;
-  });
+  }, COUNTS);
   check(extreme.tiny.every(Number.isFinite) && extreme.tiny[2] < 0.1,
     `s = 1e-30, σ × 1e30: MIS ${extreme.tiny[0].toExponential(4)} ± ${extreme.tiny[1].toExponential(2)}`);
-  check(extreme.counts.every((m) => m.startsWith('n = ') && m.includes('[1, 16777216]')),
-    `huge, negative and NaN counts are refused: ${extreme.counts.join(' | ')}`);
-  check(extreme.cloud.startsWith('n = ') && extreme.histogram.startsWith('n = '), `${extreme.cloud} | ${extreme.histogram}`);
+  const refused = (m, field, x, range) => m === `${field} = ${x} is out of range; allowed: an integer in ${range}`;
+  check(extreme.counts.every((m, i) => refused(m, 'n', COUNTS[i], '[1, 16777216]')),
+    `counts above 2^32, negative, NaN, fractional, huge, infinite and above 2^24 are refused as given: ${extreme.counts.join(' | ')}`);
+  check(extreme.ran === 1000, `no refused count ran a sample (${extreme.ran} after run(1000))`);
+  check(extreme.cloud.every((m, i) => refused(m, 'n', [2 ** 32 + 5, 1.5, 1e30][i], '[1, 1048576]'))
+    && extreme.histogram.every((m, i) => refused(m, 'n', [-1, 2 ** 32 + 5][i], '[1, 16777216]')),
+    `cloud and histogram counts: ${extreme.cloud.join(' | ')} | ${extreme.histogram.join(' | ')}`);
+  check(extreme.bins.every((m, i) => refused(m, 'bins', [0.5, NaN][i], '[1, 4096]'))
+    && extreme.segments.every((m, i) => refused(m, 'segments', [2 ** 32 + 8, -8][i], '[1, 4096]')),
+    `bins and segments: ${extreme.bins.join(' | ')} | ${extreme.segments.join(' | ')}`);
+  check(extreme.seeds.every((ms, i) => ms.every((m) => refused(m, 'seed', [2 ** 32, -1, 0.5, NaN][i], '[0, 4294967295]')))
+    && extreme.seedMax === 'no error',
+    `seeds of Demo, cloud and histogram outside the integers of [0, 2^32 - 1] are refused: ${extreme.seeds.map((m) => m[0]).join(' | ')}`);
   check(extreme.nan.every((m) => m.startsWith('x2')) && extreme.sigma.startsWith('sigma_s'),
     `NaN and ∞ are named: ${extreme.nan.join(' | ')} | ${extreme.sigma}`);
   check(extreme.huge.startsWith('reference: ') && !extreme.huge.includes('NaN'), `a transfer of 1e600 is an Error: ${extreme.huge}`);

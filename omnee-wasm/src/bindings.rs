@@ -214,7 +214,7 @@ impl Demo {
         #[wasm_bindgen(js_name = sigmaS)] sigma_s: f64,
         #[wasm_bindgen(js_name = sigmaA)] sigma_a: f64,
         #[wasm_bindgen(js_name = thetaMax)] theta_max: f64,
-        seed: u32,
+        seed: f64,
         tilt: Option<f64>,
     ) -> Result<Demo, JsValue> {
         Problem::new(
@@ -247,9 +247,9 @@ impl Demo {
         self.inner.lobe_probability().unwrap_or(f64::NAN)
     }
 
-    /// Draws `n` (1 ..= 2²⁴) more samples with each technique and updates the
-    /// running estimates.
-    pub fn run(&mut self, n: u32) -> Result<(), JsValue> {
+    /// Draws `n` (an integer in 1 ..= 2²⁴) more samples with each technique
+    /// and updates the running estimates.
+    pub fn run(&mut self, n: f64) -> Result<(), JsValue> {
         self.inner.run(n).map_err(js)
     }
 
@@ -271,10 +271,11 @@ impl Demo {
         ))
     }
 
-    /// `n` (1 ..= 2²⁰) samples of `technique` drawn from generator `seed`,
-    /// rotated into the plane about the axis: `[x, y, estimate, …]`.
+    /// `n` (an integer in 1 ..= 2²⁰) samples of `technique` drawn from
+    /// generator `seed` (an integer in 0 ..= 2³² − 1), rotated into the plane
+    /// about the axis: `[x, y, estimate, …]`.
     #[wasm_bindgen(unchecked_return_type = "Float32Array")]
-    pub fn cloud(&self, technique: Technique, n: u32, seed: u32) -> Result<JsValue, JsValue> {
+    pub fn cloud(&self, technique: Technique, n: f64, seed: f64) -> Result<JsValue, JsValue> {
         let technique = technique.technique().map_err(js)?;
         Ok(f32s(&self.inner.cloud(technique, n, seed).map_err(js)?))
     }
@@ -317,7 +318,8 @@ pub fn waterlevel(
 }
 
 /// The arc of constant `theta` through `x0` and `x2` on both sides of the
-/// axis: `segments + 1` points per side, `[x, y, …]`.
+/// axis: `segments + 1` points per side (`segments` an integer in
+/// 1 ..= 4096), `[x, y, …]`.
 #[wasm_bindgen(unchecked_return_type = "Float64Array")]
 pub fn arc(
     x0x: f64,
@@ -325,22 +327,23 @@ pub fn arc(
     x2x: f64,
     x2y: f64,
     theta: f64,
-    segments: u32,
+    segments: f64,
 ) -> Result<JsValue, JsValue> {
     Ok(f64s(
         &demo::arc([x0x, x0y], [x2x, x2y], theta, segments).map_err(js)?,
     ))
 }
 
-/// A histogram of `n` sampled deflections over `bins` bins of
+/// A histogram of `n` (an integer in 1 ..= 2²⁴) deflections sampled from
+/// generator `seed` over `bins` (an integer in 1 ..= 4096) bins of
 /// `[0, thetaHi]`: `bins` sampled densities, then `bins` exact ones.
 #[wasm_bindgen(unchecked_return_type = "Float64Array")]
 pub fn histogram(
     phase: &str,
-    n: u32,
-    bins: u32,
+    n: f64,
+    bins: f64,
     #[wasm_bindgen(js_name = thetaHi)] theta_hi: f64,
-    seed: u32,
+    seed: f64,
 ) -> Result<JsValue, JsValue> {
     Ok(f64s(
         &demo::histogram(phase, n, bins, theta_hi, seed).map_err(js)?,

@@ -27,6 +27,7 @@ use omnee_core::lobe::{LobeMis, LobeToPoint, PhaseLobe};
 use omnee_core::medium::{Homogeneous, Region};
 use omnee_core::mis::OmneeMis;
 use omnee_core::phase::{Deflection, PhaseFunction};
+use omnee_core::quadrature::Budget;
 use omnee_core::real::{Real, Vector};
 use omnee_core::reference::PointToPoint;
 use omnee_core::sampling::{self, Connection, Directions, Draw, Equiangular, Omnee, Sample};
@@ -180,15 +181,37 @@ impl Running {
     }
 }
 
-fn check_count(field: &'static str, n: u32, max: u32, allowed: &'static str) -> Result<(), Error> {
-    if n == 0 || n > max {
+/// The allowed range of a seed, as errors name it.
+pub const SEED_RANGE: &str = "an integer in [0, 4294967295]";
+/// The allowed range of [`Problem::run`]'s and [`histogram`]'s `n`.
+pub const RUN_RANGE: &str = "an integer in [1, 16777216]";
+/// The allowed range of [`Problem::cloud`]'s `n`.
+pub const CLOUD_RANGE: &str = "an integer in [1, 1048576]";
+/// The allowed range of [`histogram`]'s `bins` and [`arc`]'s `segments`.
+pub const BINS_RANGE: &str = "an integer in [1, 4096]";
+
+/// `x` as a `u32` if it is an integer in `[lo, hi]`, else `OutOfRange`
+/// naming `field`, `x` as given and `allowed`. The demo takes counts and
+/// seeds as f64, the numbers JavaScript has, and checks them here: as a
+/// `u32` wasm-bindgen would take them modulo 2³² (2³² + 5 would run 5
+/// samples, −1 would be 2³² − 1).
+pub fn integer(
+    field: &'static str,
+    x: f64,
+    lo: u32,
+    hi: u32,
+    allowed: &'static str,
+) -> Result<u32, Error> {
+    // `as` saturates (NaN → 0): the round trip holds for integers in range only.
+    let n = x as u32;
+    if f64::from(n) == x && n >= lo && n <= hi {
+        Ok(n)
+    } else {
         Err(Error::OutOfRange {
             field,
-            value: f64::from(n),
+            value: x,
             allowed,
         })
-    } else {
-        Ok(())
     }
 }
 
@@ -213,7 +236,10 @@ pub struct Problem {
     problem: PointToPoint<f64>,
     lobe: Option<Lobed>,
     reference: f64,
-    seed: u32,
+    /// The generators and statistics to start from (and restart from,
+    /// [`reset`](Self::reset), a copy: recomputing them there was 0.3 KiB
+    /// of the module).
+    start: ([Pcg32; 5], [Running; 5]),
     rngs: [Pcg32; 5],
     stats: [Running; 5],
 }
@@ -243,8 +269,9 @@ impl Problem {
         sigma_a: f64,
         theta_max: f64,
         tilt: Option<f64>,
-        seed: u32,
+        seed: f64,
     ) -> Result<Self, Error> {
+        let seed = integer("seed", seed, 0, u32::MAX, SEED_RANGE)?;
         let phase = phase(spec)?;
         let connection = Connection::new(plane_point(x0), plane_point(x2), theta_max)?;
         let problem = PointToPoint::new(connection, Homogeneous::new(sigma_s, sigma_a)?, None)?;
@@ -256,14 +283,15 @@ impl Problem {
                 (Some(lobed), f64::NAN)
             }
         };
+        let (rngs, stats) = (fresh_rngs(seed), [Running::relative_to(reference); 5]);
         Ok(Self {
             phase,
             problem,
             lobe,
             reference,
-            seed,
-            rngs: Self::fresh_rngs(seed),
-            stats: [Running::relative_to(reference); 5],
+            start: (rngs, stats),
+            rngs,
+            stats,
         })
     }
 
@@ -271,16 +299,16 @@ impl Problem {
     /// [`REFERENCE_THETA_MAX`]: `NotConverged` (field `"reference"`) when
     /// the quadrature spent its budget or its value left f64's range (an
     /// extreme problem such as σs = 1e300 at s = 1e-300, whose integral is
-    /// 1e600), so that the page never shows NaN or ∞.
+    /// 1e600), so that the page never shows NaN or ∞. Through the point
+    /// receiver's quadrature (`point_integral_within`, what `try_integral`
+    /// runs without a receiver normal), which keeps the normal's kinks and
+    /// azimuthal integral out of the module (1.6 KiB).
     fn plain_reference(problem: &PointToPoint<f64>, phase: &DemoPhase<f64>) -> Result<f64, Error> {
         let mut capped = *problem;
         capped.connection.theta_max = capped.connection.theta_max.min(REFERENCE_THETA_MAX);
-        capped.try_integral(phase)
-    }
-
-    /// One generator stream per technique, `1 + slot`.
-    fn fresh_rngs(seed: u32) -> [Pcg32; 5] {
-        core::array::from_fn(|i| Pcg32::new(u64::from(seed), 1 + i as u64))
+        let budget = Budget::new(PointToPoint::<f64>::BUDGET);
+        let value = capped.point_integral_within(phase, &budget);
+        budget.finish("reference", value)
     }
 
     /// The techniques estimating this problem: all [`TECHNIQUES`] with a
@@ -341,25 +369,24 @@ impl Problem {
 
     /// Forgets all estimates and restarts the generators from the seed.
     pub fn reset(&mut self) {
-        self.rngs = Self::fresh_rngs(self.seed);
-        self.stats = [Running::relative_to(self.reference); 5];
+        (self.rngs, self.stats) = self.start;
     }
 
     /// Draws `n` more samples (1 ..= [`MAX_RUN`]) with each of the
     /// [`techniques`](Self::techniques) and adds their estimates
     /// `f_c · k/pdf` (0 where a technique returns no sample) to the running
     /// statistics.
-    pub fn run(&mut self, n: u32) -> Result<(), Error> {
-        check_count("n", n, MAX_RUN, "[1, 16777216]")?;
-        for (i, &technique) in self.techniques().iter().enumerate() {
-            let mut rng = self.rngs[i];
-            let mut stats = self.stats[i];
+    pub fn run(&mut self, n: f64) -> Result<(), Error> {
+        let n = integer("n", n, 1, MAX_RUN, RUN_RANGE)?;
+        // Copies, written back (the draws borrow `self`).
+        let (mut rngs, mut stats) = (self.rngs, self.stats);
+        for ((&technique, rng), stats) in self.techniques().iter().zip(&mut rngs).zip(&mut stats) {
             for _ in 0..n {
-                let draw = self.draw(technique, &mut rng);
+                let draw = self.draw(technique, rng);
                 stats.push(draw.sum(|s| self.estimate(technique, s)));
             }
-            (self.rngs[i], self.stats[i]) = (rng, stats);
         }
+        (self.rngs, self.stats) = (rngs, stats);
         Ok(())
     }
 
@@ -394,8 +421,9 @@ impl Problem {
     /// a draw's vertices has the integral as its mean. (With a lobe at `x0`
     /// the rotation loses the azimuth about the axis, on which the integrand
     /// then depends.)
-    pub fn cloud(&self, technique: Technique, n: u32, seed: u32) -> Result<Vec<f32>, Error> {
-        check_count("n", n, MAX_CLOUD, "[1, 1048576]")?;
+    pub fn cloud(&self, technique: Technique, n: f64, seed: f64) -> Result<Vec<f32>, Error> {
+        let n = integer("n", n, 1, MAX_CLOUD, CLOUD_RANGE)?;
+        let seed = integer("seed", seed, 0, u32::MAX, SEED_RANGE)?;
         let mut rng = Pcg32::new(u64::from(seed), 16 + self.slot(technique)? as u64);
         let axis = &self.problem.connection.axis;
         let e = axis.e;
@@ -412,12 +440,9 @@ impl Problem {
                 let radial = p - e * along;
                 let h = radial.length().copysign(radial.dot(normal));
                 let q = axis.x0 + e * along + normal * h;
-                if let Some(point) = out.get_mut(len..len + 3) {
-                    point.copy_from_slice(&[
-                        q.x() as f32,
-                        q.y() as f32,
-                        self.estimate(technique, s) as f32,
-                    ]);
+                if let Some([x, y, f]) = out.get_mut(len..len + 3) {
+                    (*x, *y) = (q.x() as f32, q.y() as f32);
+                    *f = self.estimate(technique, s) as f32;
                     len += 3;
                 }
             }
@@ -425,6 +450,11 @@ impl Problem {
         out.truncate(len);
         Ok(out)
     }
+}
+
+/// One generator stream per technique, `1 + slot`.
+fn fresh_rngs(seed: u32) -> [Pcg32; 5] {
+    core::array::from_fn(|i| Pcg32::new(u64::from(seed), 1 + i as u64))
 }
 
 /// The incoming propagation direction at `x0`: the unit axis `e` turned by
@@ -506,13 +536,14 @@ impl<T: sampling::Technique<f64>> sampling::Technique<f64> for NoInverse<'_, T> 
 /// `theta_hi` count in neither).
 pub fn histogram(
     spec: &str,
-    n: u32,
-    bins: u32,
+    n: f64,
+    bins: f64,
     theta_hi: f64,
-    seed: u32,
+    seed: f64,
 ) -> Result<Vec<f64>, Error> {
-    check_count("n", n, MAX_RUN, "[1, 16777216]")?;
-    check_count("bins", bins, MAX_BINS, "[1, 4096]")?;
+    let n = integer("n", n, 1, MAX_RUN, RUN_RANGE)?;
+    let bins = integer("bins", bins, 1, MAX_BINS, BINS_RANGE)?;
+    let seed = integer("seed", seed, 0, u32::MAX, SEED_RANGE)?;
     if !(theta_hi > 0.0 && theta_hi <= core::f64::consts::PI) {
         return Err(Error::OutOfRange {
             field: "theta_hi",
@@ -533,7 +564,8 @@ pub fn histogram(
         }
     }
     let scale = 1.0 / (f64::from(n) * width);
-    let (sampled, exact) = out.split_at_mut(bins);
+    // (`bins` ≤ the length: the checked split only keeps a panic out of the module.)
+    let (sampled, exact) = out.split_at_mut_checked(bins).unwrap_or_default();
     for c in sampled.iter_mut() {
         *c *= scale;
     }
@@ -711,10 +743,10 @@ pub fn waterlevel(x0: [f64; 2], x2: [f64; 2], theta: f64, xi: f64) -> Result<Wat
 /// The locus of constant θ in the plane: `segments + 1` points from `x0` to
 /// `x2` on the left of the axis, then the same on the right, flattened as
 /// `[x, y, …]` (`4 (segments + 1)` numbers; `segments` in 1 ..= 4096).
-pub fn arc(x0: [f64; 2], x2: [f64; 2], theta: f64, segments: u32) -> Result<Vec<f64>, Error> {
+pub fn arc(x0: [f64; 2], x2: [f64; 2], theta: f64, segments: f64) -> Result<Vec<f64>, Error> {
     let (s, e, n) = axis2(x0, x2)?;
     check_theta(theta)?;
-    check_count("segments", segments, MAX_BINS, "[1, 4096]")?;
+    let segments = integer("segments", segments, 1, MAX_BINS, BINS_RANGE)?;
     let mut out = vec![0.0; 4 * (segments as usize + 1)];
     let mut points = out.chunks_exact_mut(2);
     for side in [1.0, -1.0] {
@@ -728,8 +760,8 @@ pub fn arc(x0: [f64; 2], x2: [f64; 2], theta: f64, segments: u32) -> Result<Vec<
                 field: "theta",
                 reason: "the triangle does not close",
             })?;
-            if let Some(point) = points.next() {
-                point.copy_from_slice(&p);
+            if let Some([x, y]) = points.next() {
+                [*x, *y] = p;
             }
         }
     }

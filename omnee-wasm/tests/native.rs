@@ -8,14 +8,18 @@
 mod common;
 
 use common::*;
-use omnee_wasm::demo::{self, MAX_RUN, PLAIN, Problem, TECHNIQUES, Technique};
+use omnee_core::Error;
+use omnee_wasm::demo::{
+    self, BINS_RANGE, CLOUD_RANGE, MAX_BINS, MAX_RUN, PLAIN, Problem, RUN_RANGE, SEED_RANGE,
+    TECHNIQUES, Technique,
+};
 
 fn problem(spec: &str, x0: [f64; 2], x2: [f64; 2], m: (f64, f64, f64), seed: u32) -> Problem {
-    Problem::new(spec, x0, x2, m.0, m.1, m.2, None, seed).unwrap()
+    Problem::new(spec, x0, x2, m.0, m.1, m.2, None, seed.into()).unwrap()
 }
 
 fn tilted(spec: &str, x0: [f64; 2], x2: [f64; 2], m: (f64, f64, f64), tilt: f64) -> Problem {
-    Problem::new(spec, x0, x2, m.0, m.1, m.2, Some(tilt), SEED).unwrap()
+    Problem::new(spec, x0, x2, m.0, m.1, m.2, Some(tilt), SEED.into()).unwrap()
 }
 
 fn estimates(p: &Problem) -> Vec<f64> {
@@ -32,13 +36,13 @@ fn estimates(p: &Problem) -> Vec<f64> {
 /// the same through the JavaScript bindings).
 fn compute() -> Vec<Vec<f64>> {
     let mut a = problem(A_SPEC, A_X0, A_X2, A_MEDIUM, SEED);
-    a.run(RUN).unwrap();
+    a.run(RUN.into()).unwrap();
     let mut b = problem(B_SPEC, B_X0, B_X2, B_MEDIUM, SEED);
-    b.run(RUN).unwrap();
+    b.run(RUN.into()).unwrap();
     let mut c = tilted(C_SPEC, C_X0, C_X2, C_MEDIUM, C_TILT);
-    c.run(RUN).unwrap();
+    c.run(RUN.into()).unwrap();
     let cloud = |m| {
-        a.cloud(m, CLOUD, 9)
+        a.cloud(m, CLOUD.into(), 9.0)
             .unwrap()
             .into_iter()
             .map(f64::from)
@@ -57,7 +61,7 @@ fn compute() -> Vec<Vec<f64>> {
         cloud(Technique::Omnee),
         cloud(Technique::Equiangular),
         cloud(Technique::Mis),
-        demo::histogram(spec, n, bins, hi, 11).unwrap(),
+        demo::histogram(spec, n.into(), bins.into(), hi, 11.0).unwrap(),
         vec![
             w.x1[0],
             w.x1[1],
@@ -137,7 +141,7 @@ fn estimators_converge_to_the_quadrature_reference() {
     ];
     for (spec, medium, methods) in cases {
         let mut p = problem(spec, [-0.5, 0.0], [0.5, 0.0], medium, 1);
-        p.run(200_000).unwrap();
+        p.run(200_000.0).unwrap();
         let reference = p.reference();
         assert!(
             reference > 0.0 && reference.is_finite(),
@@ -167,7 +171,7 @@ fn estimators_converge_to_the_quadrature_reference() {
 fn omnee_is_far_less_noisy_than_equiangular_for_a_peaked_lobe() {
     // docs/math.md §6: relative variance 0.0265 against 2.4e3 at g = 0.9.
     let mut p = problem("hg:0.9", [-0.5, 0.0], [0.5, 0.0], (0.2, 0.05, PI / 2.0), 3);
-    p.run(100_000).unwrap();
+    p.run(100_000.0).unwrap();
     let (o, e) = (
         p.stats(Technique::Omnee).unwrap(),
         p.stats(Technique::Equiangular).unwrap(),
@@ -178,11 +182,11 @@ fn omnee_is_far_less_noisy_than_equiangular_for_a_peaked_lobe() {
 #[test]
 fn reset_restarts_the_same_sequence() {
     let mut p = problem("hg:0.5", [0.0, 0.0], [1.0, 0.0], (0.1, 0.1, PI), 5);
-    p.run(1000).unwrap();
+    p.run(1000.0).unwrap();
     let first = estimates(&p);
     p.reset();
     assert_eq!(p.stats(Technique::Mis).unwrap().count(), 0);
-    p.run(1000).unwrap();
+    p.run(1000.0).unwrap();
     assert_eq!(estimates(&p), first);
 }
 
@@ -200,7 +204,7 @@ fn histogram_matches_the_exact_bin_masses() {
         "draine:0.4,1",
     ] {
         let (n, bins, hi) = (200_000u32, 40u32, PI);
-        let h = demo::histogram(spec, n, bins, hi, 1).unwrap();
+        let h = demo::histogram(spec, n.into(), bins.into(), hi, 1.0).unwrap();
         let width = hi / f64::from(bins);
         let (sampled, exact) = h.split_at(bins as usize);
         let total: f64 = exact.iter().sum::<f64>() * width;
@@ -248,7 +252,7 @@ fn waterlevel_triangle_is_the_talks() {
 #[test]
 fn arc_has_constant_deflection_and_the_cloud_lies_on_it() {
     let (x0, x2, theta) = ([0.1, -0.2], [1.0, 0.4], 1.1);
-    let pts = demo::arc(x0, x2, theta, 64).unwrap();
+    let pts = demo::arc(x0, x2, theta, 64.0).unwrap();
     assert_eq!(pts.len(), 4 * 65);
     let far = |p: &&[f64], q: [f64; 2]| (p[0] - q[0]).hypot(p[1] - q[1]) > 1e-9;
     for p in pts.chunks(2).filter(|p| far(p, x0) && far(p, x2)) {
@@ -261,7 +265,7 @@ fn arc_has_constant_deflection_and_the_cloud_lies_on_it() {
     // Forward-restricted OMNEE samples lie in the ball with diameter x0 x2
     // (Thales), also after the rotation into the plane.
     let p = problem("hg:0.3", x0, x2, (0.1, 0.0, PI / 2.0), 1);
-    let cloud = p.cloud(Technique::Omnee, 2000, 4).unwrap();
+    let cloud = p.cloud(Technique::Omnee, 2000.0, 4.0).unwrap();
     // HG(0.3) scatters about 72 % forwards: 1440 ± 20 of 2000 samples.
     assert!(
         cloud.len() > 3 * 1300 && cloud.len() < 3 * 1600,
@@ -279,7 +283,7 @@ fn arc_has_constant_deflection_and_the_cloud_lies_on_it() {
 #[test]
 fn bad_input_is_an_error_naming_the_field() {
     let ok = |spec, x2: [f64; 2], theta_max| {
-        Problem::new(spec, [0.0; 2], x2, 0.1, 0.1, theta_max, None, 1)
+        Problem::new(spec, [0.0; 2], x2, 0.1, 0.1, theta_max, None, 1.0)
     };
     let field = |r: Result<Problem, omnee_core::Error>| r.map(|_| ()).unwrap_err().field();
     assert_eq!(field(ok("hg:0.5", [0.0, 0.0], PI)), "x2");
@@ -291,36 +295,55 @@ fn bad_input_is_an_error_naming_the_field() {
     assert_eq!(field(ok("table:x.csv", [1.0, 0.0], PI)), "table");
     assert_eq!(field(ok("hg:0.5", [1.0, 0.0], 0.0)), "theta_max");
     assert_eq!(field(ok("hg:0.5", [1.0, 0.0], f64::NAN)), "theta_max");
-    assert!(Problem::new("iso", [0.0; 2], [1.0, 0.0], -1.0, 0.0, PI, None, 1).is_err());
-    assert!(Problem::new("iso", [0.0; 2], [1.0, 0.0], 0.1, f64::INFINITY, PI, None, 1).is_err());
+    assert!(Problem::new("iso", [0.0; 2], [1.0, 0.0], -1.0, 0.0, PI, None, 1.0).is_err());
+    assert!(
+        Problem::new(
+            "iso",
+            [0.0; 2],
+            [1.0, 0.0],
+            0.1,
+            f64::INFINITY,
+            PI,
+            None,
+            1.0
+        )
+        .is_err()
+    );
     for tilt in [-0.1, 3.2, f64::NAN, f64::INFINITY] {
-        let r = Problem::new("iso", [0.0; 2], [1.0, 0.0], 0.1, 0.1, PI, Some(tilt), 1);
+        let r = Problem::new("iso", [0.0; 2], [1.0, 0.0], 0.1, 0.1, PI, Some(tilt), 1.0);
         assert_eq!(r.map(|_| ()).unwrap_err().field(), "tilt", "{tilt}");
     }
     let mut p = ok("iso", [1.0, 0.0], PI).unwrap();
-    assert_eq!(p.run(0).unwrap_err().field(), "n");
-    assert_eq!(p.run(u32::MAX).unwrap_err().field(), "n");
+    assert_eq!(p.run(0.0).unwrap_err().field(), "n");
+    assert_eq!(p.run(u32::MAX.into()).unwrap_err().field(), "n");
     // The lobe techniques need a lobe at x0.
     for t in [Technique::Lobe, Technique::LobeMis] {
         assert_eq!(p.slot(t).unwrap_err().field(), "technique");
         assert_eq!(p.stats(t).unwrap_err().field(), "technique");
-        assert_eq!(p.cloud(t, 10, 1).unwrap_err().field(), "technique");
+        assert_eq!(p.cloud(t, 10.0, 1.0).unwrap_err().field(), "technique");
     }
     assert_eq!(p.lobe_probability(), None);
     assert_eq!(p.lobe_reference(), None);
-    assert_eq!(p.cloud(Technique::Omnee, 0, 1).unwrap_err().field(), "n");
     assert_eq!(
-        demo::histogram("iso", 10, 0, 1.0, 1).unwrap_err().field(),
+        p.cloud(Technique::Omnee, 0.0, 1.0).unwrap_err().field(),
+        "n"
+    );
+    assert_eq!(
+        demo::histogram("iso", 10.0, 0.0, 1.0, 1.0)
+            .unwrap_err()
+            .field(),
         "bins"
     );
     assert_eq!(
-        demo::histogram("iso", 10, 8, f64::NAN, 1)
+        demo::histogram("iso", 10.0, 8.0, f64::NAN, 1.0)
             .unwrap_err()
             .field(),
         "theta_hi"
     );
     assert_eq!(
-        demo::histogram("hg:-1", 10, 8, 1.0, 1).unwrap_err().field(),
+        demo::histogram("hg:-1", 10.0, 8.0, 1.0, 1.0)
+            .unwrap_err()
+            .field(),
         "g"
     );
     assert_eq!(demo::quantile("iso", 1.0).unwrap_err().field(), "u");
@@ -343,7 +366,7 @@ fn bad_input_is_an_error_naming_the_field() {
         "xi"
     );
     assert_eq!(
-        demo::arc([0.0; 2], [1.0, 0.0], f64::NAN, 8)
+        demo::arc([0.0; 2], [1.0, 0.0], f64::NAN, 8.0)
             .unwrap_err()
             .field(),
         "theta"
@@ -601,8 +624,8 @@ fn tilted_estimates_agree_with_the_three_dimensional_reference() {
     assert!(p.reference().is_nan());
     let c = p.lobe_probability().unwrap();
     assert!(c > 0.45 && c <= 0.5, "c = {c}");
-    let n = 200_000;
-    p.run(n).unwrap();
+    let n: u32 = 200_000;
+    p.run(f64::from(n)).unwrap();
     // Means of bounded (OMNEE: p0 ≤ its peak) or well-behaved estimates
     // within 5 standard errors: fails with probability < 1e-6 each under
     // the normal approximation. The lobe technique alone and equiangular
@@ -649,7 +672,7 @@ fn extreme_scales_give_the_answer_or_a_named_error() {
         for (sigma_s, sigma_a) in [(0.5 / s, 0.05 / s), (0.5, 0.05), (0.0, 0.0)] {
             let x2 = [s / 2f64.sqrt(), -s / 2f64.sqrt()];
             let what = format!("s = {s:e}, sigma_s = {sigma_s:e}");
-            match Problem::new("hg:0.5", [0.0; 2], x2, sigma_s, sigma_a, PI, None, 7) {
+            match Problem::new("hg:0.5", [0.0; 2], x2, sigma_s, sigma_a, PI, None, 7.0) {
                 Err(e) => {
                     let m = e.to_string();
                     assert_eq!(e.field(), "reference", "{what}: {m}");
@@ -657,7 +680,7 @@ fn extreme_scales_give_the_answer_or_a_named_error() {
                     refused += 1;
                 }
                 Ok(mut p) => {
-                    p.run(20_000).unwrap();
+                    p.run(20_000.0).unwrap();
                     let r = p.reference();
                     assert!(r.is_finite() && r >= 0.0, "{what}: reference {r}");
                     for &t in &PLAIN {
@@ -683,7 +706,7 @@ fn extreme_scales_give_the_answer_or_a_named_error() {
     // A difference beyond f64 is not a distance; NaN and ∞ anywhere are
     // named.
     let new = |x0: [f64; 2], x2: [f64; 2], m: (f64, f64, f64)| {
-        Problem::new("iso", x0, x2, m.0, m.1, m.2, None, 1)
+        Problem::new("iso", x0, x2, m.0, m.1, m.2, None, 1.0)
             .map(|_| ())
             .unwrap_err()
             .field()
@@ -702,23 +725,69 @@ fn extreme_scales_give_the_answer_or_a_named_error() {
         "theta_max"
     );
     // θmax at its smallest: an integral of order θmax², 0 in f64.
-    let p = Problem::new("iso", [0.0; 2], [1.0, 0.0], 0.5, 0.05, 5e-324, None, 1).unwrap();
+    let p = Problem::new("iso", [0.0; 2], [1.0, 0.0], 0.5, 0.05, 5e-324, None, 1.0).unwrap();
     assert_eq!(p.reference(), 0.0);
-    // Counts: the largest u32 and the wrapped forms of huge JavaScript
-    // numbers (-1 → 2³² − 1, 1e30 → 2³⁰) are refused, not run.
-    let mut p = Problem::new("iso", [0.0; 2], [1.0, 0.0], 0.5, 0.05, PI, None, 1).unwrap();
-    for n in [u32::MAX, 1 << 30, MAX_RUN + 1] {
-        assert_eq!(p.run(n).unwrap_err().field(), "n", "{n}");
-        assert_eq!(p.cloud(Technique::Omnee, n, 1).unwrap_err().field(), "n");
-        assert_eq!(
-            demo::histogram("iso", n, 8, 1.0, 1).unwrap_err().field(),
-            "n"
+    // Counts and seeds are JavaScript's numbers: anything but an integer in
+    // range is refused with the number as given (not taken modulo 2³²:
+    // 2³² + 5 does not run 5 samples), and nothing runs.
+    let mut p = Problem::new("iso", [0.0; 2], [1.0, 0.0], 0.5, 0.05, PI, None, 1.0).unwrap();
+    let out_of_range = |r: Result<(), Error>, field: &str, x: f64, allowed: &str| match r {
+        Err(Error::OutOfRange {
+            field: f,
+            value,
+            allowed: a,
+        }) => {
+            assert_eq!((f, a), (field, allowed), "{x}");
+            assert!(value.to_bits() == x.to_bits(), "{value} vs {x}");
+        }
+        other => panic!("{field} = {x}: {other:?}"),
+    };
+    let (huge, wrapped) = (f64::from(u32::MAX) + 1.0, 4294967296.0 + 5.0);
+    for n in [
+        wrapped,
+        huge,
+        -1.0,
+        -0.5,
+        0.0,
+        1.5,
+        f64::NAN,
+        1e30,
+        f64::INFINITY,
+        f64::from(MAX_RUN + 1),
+    ] {
+        out_of_range(p.run(n), "n", n, RUN_RANGE);
+        out_of_range(
+            p.cloud(Technique::Omnee, n, 1.0).map(drop),
+            "n",
+            n,
+            CLOUD_RANGE,
         );
+        out_of_range(
+            demo::histogram("iso", n, 8.0, 1.0, 1.0).map(drop),
+            "n",
+            n,
+            RUN_RANGE,
+        );
+        out_of_range(
+            demo::histogram("iso", 10.0, n, 1.0, 1.0).map(drop),
+            "bins",
+            n,
+            BINS_RANGE,
+        );
+        let arc = demo::arc([0.0; 2], [1.0, 0.0], 1.0, n).map(drop);
+        out_of_range(arc, "segments", n, BINS_RANGE);
     }
-    assert_eq!(
-        demo::arc([0.0; 2], [1.0, 0.0], 1.0, u32::MAX)
-            .unwrap_err()
-            .field(),
-        "segments"
-    );
+    assert_eq!(p.stats(Technique::Omnee).unwrap().count(), 0);
+    for seed in [huge, wrapped, -1.0, 0.5, f64::NAN, f64::INFINITY] {
+        let new = Problem::new("iso", [0.0; 2], [1.0, 0.0], 0.5, 0.05, PI, None, seed);
+        out_of_range(new.map(drop), "seed", seed, SEED_RANGE);
+        let cloud = p.cloud(Technique::Omnee, 10.0, seed).map(drop);
+        out_of_range(cloud, "seed", seed, SEED_RANGE);
+        let histogram = demo::histogram("iso", 10.0, 8.0, 1.0, seed).map(drop);
+        out_of_range(histogram, "seed", seed, SEED_RANGE);
+    }
+    // The ends of the ranges are taken.
+    assert!(p.cloud(Technique::Omnee, 1.0, f64::from(u32::MAX)).is_ok());
+    assert!(demo::histogram("iso", 1.0, f64::from(MAX_BINS), 1.0, 0.0).is_ok());
+    assert_eq!(demo::integer("n", 7.0, 1, 7, RUN_RANGE), Ok(7));
 }

@@ -14,7 +14,18 @@ use wasm_bindgen_test::*;
 wasm_bindgen_test_configure!(run_in_browser);
 
 fn demo(spec: &str, x0: [f64; 2], x2: [f64; 2], m: (f64, f64, f64)) -> Demo {
-    let d = Demo::new(spec, x0[0], x0[1], x2[0], x2[1], m.0, m.1, m.2, SEED, None);
+    let d = Demo::new(
+        spec,
+        x0[0],
+        x0[1],
+        x2[0],
+        x2[1],
+        m.0,
+        m.1,
+        m.2,
+        SEED.into(),
+        None,
+    );
     d.unwrap_or_else(|_| panic!("Demo::new({spec}) failed"))
 }
 
@@ -42,9 +53,9 @@ fn estimates(d: &Demo, techniques: &[Technique]) -> Vec<f64> {
 #[wasm_bindgen_test]
 fn browser_numbers_match_the_native_fixture() {
     let mut a = demo(A_SPEC, A_X0, A_X2, A_MEDIUM);
-    a.run(RUN).expect("run a");
+    a.run(RUN.into()).expect("run a");
     let mut b = demo(B_SPEC, B_X0, B_X2, B_MEDIUM);
-    b.run(RUN).expect("run b");
+    b.run(RUN.into()).expect("run b");
     let (x0, x2, m) = (C_X0, C_X2, C_MEDIUM);
     let mut c = Demo::new(
         C_SPEC,
@@ -55,12 +66,12 @@ fn browser_numbers_match_the_native_fixture() {
         m.0,
         m.1,
         m.2,
-        SEED,
+        SEED.into(),
         Some(C_TILT),
     )
     .expect("case c");
-    c.run(RUN).expect("run c");
-    let cloud = |t| numbers(&a.cloud(t, CLOUD, 9).expect("cloud"));
+    c.run(RUN.into()).expect("run c");
+    let cloud = |t| numbers(&a.cloud(t, CLOUD.into(), 9.0).expect("cloud"));
     let (spec, n, bins, hi) = HIST;
     let (x0, x2, theta, xi) = WATER;
     let w = waterlevel(x0[0], x0[1], x2[0], x2[1], theta, xi).expect("waterlevel");
@@ -74,7 +85,7 @@ fn browser_numbers_match_the_native_fixture() {
         cloud(Technique::Omnee),
         cloud(Technique::Equiangular),
         cloud(Technique::Mis),
-        numbers(&histogram(spec, n, bins, hi, 11).expect("histogram")),
+        numbers(&histogram(spec, n.into(), bins.into(), hi, 11.0).expect("histogram")),
         [
             "x1x", "x1y", "theta", "alpha", "beta", "xi", "t", "s", "d1", "d2", "radius", "cx",
             "cy",
@@ -93,7 +104,7 @@ fn browser_numbers_match_the_native_fixture() {
 #[wasm_bindgen_test]
 fn estimates_report_the_relative_error() {
     let mut d = demo("hg:0.9", [-0.5, 0.0], [0.5, 0.0], (0.2, 0.05, PI));
-    d.run(50_000).expect("run");
+    d.run(50_000.0).expect("run");
     let r = d.reference();
     for t in &TECHNIQUES[..3] {
         let e = d.estimate(*t).expect("estimate");
@@ -110,20 +121,20 @@ fn estimates_report_the_relative_error() {
     // precomputed) and reports the combination's probability c.
     assert!(d.lobe_probability().is_nan());
     let mut t =
-        Demo::new("hg:0.9", -0.5, 0.0, 0.5, 0.0, 0.2, 0.05, PI, 1, Some(0.5)).expect("lobe");
+        Demo::new("hg:0.9", -0.5, 0.0, 0.5, 0.0, 0.2, 0.05, PI, 1.0, Some(0.5)).expect("lobe");
     assert!(t.reference().is_nan() && t.lobe_probability() > 0.45);
-    t.run(1000).expect("run");
+    t.run(1000.0).expect("run");
     let e = t.estimate(Technique::LobeMis).expect("estimate");
     assert!(get(&e, "mean") > 0.0 && get(&e, "relativeError").is_nan());
     assert!((mean_cosine("hg:0.9").expect("g") - 0.9).abs() < 1e-15);
-    let pts = arc(0.0, 0.0, 1.0, 0.0, 1.0, 16).expect("arc");
+    let pts = arc(0.0, 0.0, 1.0, 0.0, 1.0, 16.0).expect("arc");
     assert_eq!(numbers(&pts).len(), 4 * 17);
 }
 
 #[wasm_bindgen_test]
 fn bad_input_is_an_error_not_a_trap() {
     let bad = |spec: &str, x2: [f64; 2], g: (f64, f64, f64)| {
-        Demo::new(spec, 0.0, 0.0, x2[0], x2[1], g.0, g.1, g.2, 1, None).is_err()
+        Demo::new(spec, 0.0, 0.0, x2[0], x2[1], g.0, g.1, g.2, 1.0, None).is_err()
     };
     assert!(bad("hg:0.5", [0.0, 0.0], (0.1, 0.1, PI)), "x0 == x2");
     assert!(bad("hg:0.5", [f64::NAN, 0.0], (0.1, 0.1, PI)), "NaN");
@@ -133,20 +144,27 @@ fn bad_input_is_an_error_not_a_trap() {
     assert!(bad("iso", [1.0, 0.0], (f64::NAN, 0.1, PI)), "NaN sigma_s");
     assert!(bad("iso", [1.0, 0.0], (0.1, 0.1, 4.0)), "theta_max > pi");
     for tilt in [-0.5, 4.0, f64::NAN] {
-        let d = Demo::new("iso", 0.0, 0.0, 1.0, 0.0, 0.1, 0.1, PI, 1, Some(tilt));
+        let d = Demo::new("iso", 0.0, 0.0, 1.0, 0.0, 0.1, 0.1, PI, 1.0, Some(tilt));
         assert!(d.is_err(), "tilt {tilt}");
     }
     let mut d = demo("iso", [0.0, 0.0], [1.0, 0.0], (0.1, 0.1, PI));
-    assert!(d.run(0).is_err() && d.run(u32::MAX).is_err());
-    assert!(d.cloud(Technique::Omnee, u32::MAX, 1).is_err());
-    assert!(histogram("hg:2", 10, 8, 1.0, 1).is_err());
-    assert!(histogram("iso", 10, 8, f64::NAN, 1).is_err());
+    assert!(d.run(0.0).is_err() && d.run(u32::MAX.into()).is_err());
+    // Not taken modulo 2³²: 2³² + 5, −1, NaN and 1.5 are refused.
+    for n in [4294967301.0, -1.0, f64::NAN, 1.5] {
+        assert!(
+            d.run(n).is_err() && d.cloud(Technique::Omnee, 10.0, n).is_err(),
+            "{n}"
+        );
+    }
+    assert!(d.cloud(Technique::Omnee, u32::MAX.into(), 1.0).is_err());
+    assert!(histogram("hg:2", 10.0, 8.0, 1.0, 1.0).is_err());
+    assert!(histogram("iso", 10.0, 8.0, f64::NAN, 1.0).is_err());
     assert!(quantile("iso", f64::NAN).is_err());
     assert!(waterlevel(0.0, 0.0, 0.0, 0.0, 1.0, 0.5).is_err());
     assert!(waterlevel(0.0, 0.0, 1.0, 0.0, f64::NAN, 0.5).is_err());
-    assert!(arc(f64::INFINITY, 0.0, 1.0, 0.0, 1.0, 8).is_err());
+    assert!(arc(f64::INFINITY, 0.0, 1.0, 0.0, 1.0, 8.0).is_err());
     // The demo object is still usable after the errors.
-    assert!(d.run(10).is_ok());
+    assert!(d.run(10.0).is_ok());
 }
 
 #[wasm_bindgen_test]
@@ -200,13 +218,14 @@ fn errors_are_javascript_errors_with_the_cores_message() {
         ("iso", [1.0, 0.0], -0.25),
     ];
     for (spec, x2, sigma_s) in cases {
-        let thrown = Demo::new(spec, 0.0, 0.0, x2[0], x2[1], sigma_s, 0.1, PI, 1, None)
+        let thrown = Demo::new(spec, 0.0, 0.0, x2[0], x2[1], sigma_s, 0.1, PI, 1.0, None)
             .map(|_| ())
             .unwrap_err();
-        let native = omnee_wasm::demo::Problem::new(spec, [0.0; 2], x2, sigma_s, 0.1, PI, None, 1)
-            .map(|_| ())
-            .unwrap_err()
-            .to_string();
+        let native =
+            omnee_wasm::demo::Problem::new(spec, [0.0; 2], x2, sigma_s, 0.1, PI, None, 1.0)
+                .map(|_| ())
+                .unwrap_err()
+                .to_string();
         assert_eq!(message(&thrown), native, "{spec} {x2:?} {sigma_s}");
     }
 }
@@ -221,7 +240,7 @@ fn techniques_are_the_demos_names_and_other_strings_are_refused() {
         );
     }
     let plain = demo("iso", [0.0, 0.0], [1.0, 0.0], (0.1, 0.1, PI));
-    let tilted = Demo::new("iso", 0.0, 0.0, 1.0, 0.0, 0.1, 0.1, PI, 1, Some(1.0)).expect("lobe");
+    let tilted = Demo::new("iso", 0.0, 0.0, 1.0, 0.0, 0.1, 0.1, PI, 1.0, Some(1.0)).expect("lobe");
     let (plain, tilted) = (
         wasm_bindgen::JsValue::from(plain),
         wasm_bindgen::JsValue::from(tilted),
@@ -253,7 +272,7 @@ fn extreme_scales_give_finite_numbers_or_an_error_naming_the_field() {
     // s = 1e-30 with σ scaled: the transfer 3e59, finite estimates.
     let s = 1e-30;
     let mut d = demo("hg:0.5", [0.0, 0.0], [s, 0.0], (0.5 / s, 0.05 / s, PI));
-    d.run(2000).unwrap();
+    d.run(2000.0).unwrap();
     for t in [Technique::Omnee, Technique::Mis] {
         let e = d.estimate(t).unwrap();
         let (mean, err, rel) = (
@@ -268,18 +287,18 @@ fn extreme_scales_give_finite_numbers_or_an_error_naming_the_field() {
     }
     // s = 1e-300 with σs = 5e299: the transfer 1e600, an Error naming the
     // reference, no NaN in it.
-    let thrown = Demo::new("iso", 0.0, 0.0, 1e-300, 0.0, 5e299, 5e298, PI, 1, None)
+    let thrown = Demo::new("iso", 0.0, 0.0, 1e-300, 0.0, 5e299, 5e298, PI, 1.0, None)
         .map(|_| ())
         .unwrap_err();
     let m = message(&thrown);
     assert!(m.starts_with("reference: ") && !m.contains("NaN"), "{m}");
     // Points 1.6e308 apart: the transfer underflows to 0, estimates 0.
     let mut d = demo("iso", [-8e307, 0.0], [8e307, 0.0], (0.5, 0.05, PI));
-    d.run(100).unwrap();
+    d.run(100.0).unwrap();
     let e = d.estimate(Technique::Mis).unwrap();
     assert_eq!((get(&e, "mean"), get(&e, "stdError")), (0.0, 0.0));
     // A difference beyond f64: an Error.
-    let thrown = Demo::new("iso", -1e308, 0.0, 1e308, 0.0, 0.5, 0.05, PI, 1, None)
+    let thrown = Demo::new("iso", -1e308, 0.0, 1e308, 0.0, 0.5, 0.05, PI, 1.0, None)
         .map(|_| ())
         .unwrap_err();
     assert!(

@@ -15,7 +15,7 @@ use core::fmt;
 /// A parsed phase-function specification string.
 ///
 /// Syntax (names lower case, parameters comma-separated decimal numbers,
-/// surrounding whitespace ignored):
+/// surrounding ASCII whitespace ignored):
 ///
 /// | spec | phase function | parameters (allowed) |
 /// |---|---|---|
@@ -184,16 +184,16 @@ impl<'s> ParsedSpec<'s> {
     /// `number` (`None`: not a number).
     pub fn parse_with(spec: &'s str, number: impl Fn(&str) -> Option<f64>) -> Result<Self, Error> {
         let syntax = |field, reason| Error::Syntax { field, reason };
-        let spec = spec.trim();
+        let spec = spec.trim_ascii();
         let (name, args) = match split_once(spec, b':') {
-            Some((n, a)) => (n.trim(), Some(a)),
+            Some((n, a)) => (n.trim_ascii(), Some(a)),
             None => (spec, None),
         };
         let kind = PhaseKind::from_name(name).ok_or(syntax("phase", NAMES))?;
         let (fields, usage) = kind.parameters();
         let name = kind.name();
         if kind == PhaseKind::Table {
-            return match args.map(str::trim) {
+            return match args.map(str::trim_ascii) {
                 Some(path) if !path.is_empty() => Ok(ParsedSpec::Table { path }),
                 _ => Err(syntax(name, usage)),
             };
@@ -212,7 +212,7 @@ impl<'s> ParsedSpec<'s> {
                         Some(None) => (rest.unwrap_or(""), None),
                     };
                     rest = tail;
-                    *slot = number(part.trim()).ok_or(syntax(field, "not a number"))?;
+                    *slot = number(part.trim_ascii()).ok_or(syntax(field, "not a number"))?;
                 }
                 if rest.is_some() {
                     return Err(syntax(name, usage));
