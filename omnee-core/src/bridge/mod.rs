@@ -30,6 +30,7 @@
 
 mod count;
 mod isotropic;
+mod product;
 #[cfg(test)]
 mod tests;
 
@@ -42,6 +43,7 @@ use crate::medium::Homogeneous;
 use crate::phase::{Deflection, PhaseFunction};
 use crate::real::{Real, Vector};
 use crate::sampling::saturate;
+use product::Product;
 
 /// The largest number of inner vertices a bridge takes. Each vertex takes
 /// three uniform numbers.
@@ -325,12 +327,7 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
     /// `D^{k+1}` nor `e^{−σt D}` is formed alone (docs/math.md §14.5).
     /// Finite and ≥ 0.
     pub fn estimate(&self, sample: &BridgeSample<F>, medium: &Homogeneous<F>) -> F {
-        let depth = if medium.sigma_t() > F::ZERO {
-            medium.sigma_t() * sample.length
-        } else {
-            F::ZERO
-        };
-        self.estimate_at_depth(sample, medium.sigma_s(), depth)
+        self.estimate_at_depth(sample, medium.sigma_s(), self.depth(sample, medium))
     }
 
     /// The estimate from one bridge whose path has the optical depth
@@ -340,21 +337,69 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
     /// does with `a = (D/s) e^{−τ/(k+1)}` (docs/math.md §14.5, §14.9).
     /// Finite and ≥ 0 (saturating); 0 for σs ≤ 0.
     pub fn estimate_at_depth(&self, sample: &BridgeSample<F>, sigma_s: F, tau: F) -> F {
+        self.estimate_product(sample, sigma_s, tau).value()
+    }
+
+    /// [`estimate`](Self::estimate) in f64 whatever `F`: the product formed
+    /// in `F` with its power of two kept apart and applied in f64, so that
+    /// an estimate beyond `F`'s range (f32 at s = 1e-30: `I_k ∝ 1/s²`,
+    /// about 1e60 with σs ∝ 1/s) is still right. Finite and ≥ 0
+    /// (saturating at `f64::MAX`).
+    pub fn estimate_f64(&self, sample: &BridgeSample<F>, medium: &Homogeneous<F>) -> f64 {
+        self.estimate_product(sample, medium.sigma_s(), self.depth(sample, medium))
+            .to_f64()
+    }
+
+    /// The optical depth `σt D` of the sampled path in the infinite `medium`
+    /// (+∞ where the product leaves `F`'s range, a path no light crosses).
+    #[inline]
+    fn depth(&self, sample: &BridgeSample<F>, medium: &Homogeneous<F>) -> F {
+        if medium.sigma_t() > F::ZERO {
+            medium.sigma_t() * sample.length
+        } else {
+            F::ZERO
+        }
+    }
+
+    /// `σs^k e^{−τ} · weight` as `(p/q) · a · Π_{i=1}^k (σs s a / i) / s²`
+    /// with `a = (D/s) e^{−τ/(k+1)}` (docs/math.md §14.5): factor by factor
+    /// in `F`, and again as a [`Product`] where a partial product left the
+    /// normal range (its last factor would not bring it back exactly).
+    #[inline]
+    fn estimate_product(&self, sample: &BridgeSample<F>, sigma_s: F, tau: F) -> Product<F> {
         let (k, s) = (sample.k, self.axis.s);
         if k == 0 || !(sigma_s > F::ZERO) {
-            return F::ZERO;
+            return Product::of(F::ZERO);
         }
+        let n = F::from_f64((k + 1) as f64);
         let attenuation = if tau > F::ZERO {
-            (-tau / F::from_f64((k + 1) as f64)).exp()
+            (-tau / n).exp()
         } else {
             F::ONE
         };
         let a = sample.length / s * attenuation;
         let mut value = sample.phase_ratio * a;
+        let mut normal = normal_range(value);
         for i in 1..=k {
             value *= sigma_s * s * a / F::from_f64(i as f64);
+            normal &= normal_range(value);
         }
-        saturate(value / s / s)
+        let value = value / s / s;
+        if normal && normal_range(value) {
+            return Product::of(value);
+        }
+        let a = Product::of(sample.length)
+            .over_real(s)
+            .times(Product::exp_neg(tau / n));
+        let mut value = Product::of(sample.phase_ratio).times(a);
+        for i in 1..=k {
+            value = value
+                .times_real(sigma_s)
+                .times_real(s)
+                .times(a)
+                .over_real(F::from_f64(i as f64));
+        }
+        value.over_real(s).over_real(s)
     }
 
     /// The uniform numbers that [`sample`](Self::sample) maps to the path
@@ -432,15 +477,37 @@ fn turn_of<F: Real>(y: F, x: F) -> F {
 }
 
 /// `D^{k+1}/(s³ k!)` as `(1/s²) (D/s) Π_{i=1}^k (D/i)/s`, factor by factor
-/// (saturating), the kernel over the density (docs/math.md §14.4).
+/// (saturating), the kernel over the density (docs/math.md §14.4); again as
+/// a [`Product`] where a partial product left the normal range (f32 at
+/// s = 1e-30: `1/s²` overflows, the weight `∝ s^{k−2}` need not).
 #[inline]
 fn length_weight<F: Real>(k: usize, s: F, length: F) -> F {
     let r = length / s;
     let mut value = r / s / s;
+    let mut normal = normal_range(value);
     for i in 1..=k {
         value *= r * s / F::from_f64(i as f64);
+        normal &= normal_range(value);
     }
-    value
+    if normal {
+        return value;
+    }
+    let r = Product::of(length).over_real(s);
+    let mut value = r.over_real(s).over_real(s);
+    for i in 1..=k {
+        value = value
+            .times(r)
+            .times_real(s)
+            .over_real(F::from_f64(i as f64));
+    }
+    value.value()
+}
+
+/// Whether `x` is a normal number (or 0 exactly is not): a partial product
+/// that stays in `[F::MIN_POSITIVE, F::MAX]` lost no digits to the range.
+#[inline]
+fn normal_range<F: Real>(x: F) -> bool {
+    x >= F::MIN_POSITIVE && x.is_finite()
 }
 
 /// One break of the stick: of the share `left` that `n + 1` edges still

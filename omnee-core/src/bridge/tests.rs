@@ -176,3 +176,102 @@ fn vertex_count_is_a_distribution_and_rejects_bad_input() {
     let huge = VertexCount::<f64>::new(8, 1e30, 1e30, 1e30, 0.0).unwrap();
     assert!((1..=8).all(|k| huge.pmf(k).is_finite()));
 }
+
+/// The bridges of the same numbers between `0` and `λ (1, 2, −0.5)` for
+/// `λ = 2ⁿ`, with σs, σt scaled by `1/λ`: every length scales by `λ`, the
+/// weight by `λ^{k−2}` and the estimate by `λ^{−2}` (docs/math.md §14.5).
+fn scaled<F: Real>(n: i32, k: usize, u: &[[F; 3]]) -> (BridgeSample<F>, F, f64)
+where
+    F::Vec3: Copy,
+{
+    let x2 = F::Vec3::new(F::ONE, F::TWO, F::from_f64(-0.5)).scale_pow2(n);
+    let b = Bridge::new(
+        x2 * F::ZERO,
+        x2,
+        HenyeyGreenstein::new(F::from_f64(0.6)).unwrap(),
+    )
+    .unwrap();
+    let medium = Homogeneous::from_extinction(
+        F::from_f64(0.4).scale_pow2(-n),
+        F::from_f64(0.9).scale_pow2(-n),
+    )
+    .unwrap();
+    let mut x = [b.axis.x0; MAX_VERTICES];
+    let s = b.sample(&u[..k], &mut x).unwrap();
+    (s, b.estimate(&s, &medium), b.estimate_f64(&s, &medium))
+}
+
+#[test]
+fn weight_and_estimate_follow_the_scale_law_across_the_exponent_range() {
+    let u: [[f32; 3]; 6] = [
+        [0.3, 0.6, 0.2],
+        [0.8, 0.1, 0.5],
+        [0.45, 0.9, 0.7],
+        [0.05, 0.33, 0.4],
+        [0.6, 0.2, 0.9],
+        [0.95, 0.75, 0.1],
+    ];
+    let wide = u.map(|r| r.map(f64::from));
+    for k in 1..=6 {
+        let (one, e1, w1) = scaled::<f32>(0, k, &u);
+        let (one64, _, w64) = scaled::<f64>(0, k, &wide);
+        // f32 against f64 at the unit scale.
+        assert!((w1 / w64 - 1.0).abs() < 1e-5, "k {k}: {w1:e} vs {w64:e}");
+        assert!((f64::from(one.weight) / one64.weight - 1.0).abs() < 1e-5);
+        for n in [-126, -100, -60, 60, 100, 126] {
+            let (s, e, w) = scaled::<f32>(n, k, &u);
+            let exact = |x: f64, p: i32| x * libm::exp2(f64::from(p * n));
+            // In f64 the estimate is right at every scale (λ⁻²), to the
+            // rounding of the factors' order.
+            let tol = 1e-6 * (k as f64 + 2.0);
+            assert!(
+                (w / exact(w1, -2) - 1.0).abs() < tol,
+                "k {k}, 2^{n}: {w:e} vs {:e}",
+                exact(w1, -2)
+            );
+            // In f32: right wherever the value is a normal f32, saturated
+            // above, 0 or subnormal below.
+            for (got, want) in [
+                (e, exact(f64::from(e1), -2)),
+                (s.weight, exact(f64::from(one.weight), k as i32 - 2)),
+            ] {
+                if want > f64::from(f32::MAX) {
+                    assert_eq!(got, f32::MAX, "k {k}, 2^{n}");
+                } else if want >= f64::from(f32::MIN_POSITIVE) {
+                    assert!(
+                        (f64::from(got) / want - 1.0).abs() < tol,
+                        "k {k}, 2^{n}: {got:e} vs {want:e}"
+                    );
+                } else {
+                    assert!(
+                        f64::from(got) <= f64::from(f32::MIN_POSITIVE),
+                        "k {k}, 2^{n}"
+                    );
+                }
+            }
+            assert!(
+                (f64::from(s.length) / exact(f64::from(one.length), 1) - 1.0).abs() < 1e-6,
+                "k {k}, 2^{n}"
+            );
+        }
+    }
+}
+
+#[test]
+fn product_keeps_its_digits_past_the_range() {
+    use super::product::Product;
+    let p = Product::of(1e-30f32)
+        .times_real(1e-30)
+        .over_real(1e-30)
+        .over_real(1e-30);
+    assert!((p.value() - 1.0).abs() < 1e-6);
+    let q = Product::of(3e38f32).times_real(3e38);
+    assert_eq!(q.value(), f32::MAX);
+    assert!((q.to_f64() / 9e76 - 1.0).abs() < 1e-6);
+    assert_eq!(Product::of(f32::NAN).value(), 0.0);
+    assert_eq!(Product::<f32>::exp_neg(f32::INFINITY).value(), 0.0);
+    // e^{−200} leaves f32 but not f64.
+    let tiny = Product::<f32>::exp_neg(200.0).to_f64();
+    assert!((tiny / libm::exp(-200.0) - 1.0).abs() < 1e-4, "{tiny:e}");
+    assert_eq!(Product::<f64>::exp_neg(0.0).value(), 1.0);
+}
