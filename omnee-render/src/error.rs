@@ -103,8 +103,14 @@ pub type Result<T> = std::result::Result<T, RenderError>;
 /// about it.
 pub(crate) fn not_converged(spelling: Spelling, e: omnee_core::Error) -> RenderError {
     let reference = spelling.of("reference");
+    // The core's message names its field ("reference: the quadrature ...");
+    // the field is named here as the front end spells it, once.
+    let what = e.to_string();
+    let what = what
+        .strip_prefix(&format!("{}: ", e.field()))
+        .unwrap_or(&what);
     RenderError::NotConverged(format!(
-        "{reference}: {e}; allowed: a problem whose reference converges (leave out {reference} \
-         to estimate without it)"
+        "{reference}: {what}; allowed: a problem whose reference converges (leave out \
+         {reference} to estimate without it)"
     ))
 }
