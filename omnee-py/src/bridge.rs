@@ -467,16 +467,37 @@ impl VertexCount {
         Ok((crate::array::result(k)?, crate::array::result(p)?))
     }
 
-    /// `P(k)` for each integer of `k` (0 outside `[1, k_max]`).
+    /// `P(k)` for each integer of `k` (0 outside `[1, k_max]`); a value
+    /// that is not an integer (2.5, NaN, ∞) is a `ValueError` naming it.
     fn pmf<'py>(&self, py: Python<'py>, k: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let np = py.import("numpy")?;
-        let k = np.getattr("asarray")?.call1((k, "int64"))?;
-        let k = k.cast::<numpy::PyArrayDyn<i64>>()?.readonly();
-        let out = zeros::<f64>(py, k.shape());
+        // Every integer a count can be is exact in float64 (|k| < 2⁵³);
+        // larger ones are outside [1, k_max] either way.
+        let k = np.getattr("asarray")?.call1((k, "float64"))?;
+        let k = k.cast::<numpy::PyArrayDyn<f64>>()?.readonly();
+        let shape = k.shape().to_vec();
+        let out = zeros::<f64>(py, &shape);
         {
             let mut ov = out.readwrite();
-            for (o, &ki) in slice_mut(&mut ov).iter_mut().zip(k.as_array().iter()) {
-                *o = usize::try_from(ki).map_or(0.0, |ki| self.count.pmf(ki));
+            for (at, (o, &ki)) in slice_mut(&mut ov)
+                .iter_mut()
+                .zip(k.as_array().iter())
+                .enumerate()
+            {
+                if !(ki.is_finite() && ki == ki.trunc()) {
+                    return Err(Bad::Element {
+                        arg: "k",
+                        at,
+                        value: number(ki),
+                        allowed: "integers (P(k) = 0 outside [1, k_max])",
+                    }
+                    .into_err(&shape));
+                }
+                *o = if (1.0..=MAX_VERTICES as f64).contains(&ki) {
+                    self.count.pmf(ki as usize)
+                } else {
+                    0.0
+                };
             }
         }
         crate::array::result(out)

@@ -4,8 +4,8 @@
 //! reference that spent its evaluation budget is `omnee.NotConvergedError`.
 
 use omnee_render::RenderError;
-use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::PyErr;
+use pyo3::exceptions::{PyOSError, PyValueError};
 
 pyo3::create_exception!(
     omnee,

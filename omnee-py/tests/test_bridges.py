@@ -181,3 +181,10 @@ def test_vertex_count_matches_the_c_api_and_its_frequencies():
         count.sample([0.5, np.nan])
     with pytest.raises(ValueError, match=r"s = -1"):
         omnee.VertexCount(4, s=-1.0, **MEDIUM)
+    # pmf takes integers of any dtype (and huge or negative ones are 0), never
+    # a truncated 2.5 or a NaN.
+    assert count.pmf(2) == pmf[2] and count.pmf(np.float32(3.0)) == pmf[3]
+    assert list(count.pmf([-5, 2**62, 1e300])) == [0.0, 0.0, 0.0]
+    for bad, shown in [(2.5, "2.5"), (np.nan, "nan"), (np.inf, "inf")]:
+        with pytest.raises(ValueError, match=rf"k\[1\] = {shown} is out of range; allowed: integers"):
+            count.pmf([1, bad])

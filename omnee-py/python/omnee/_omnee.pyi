@@ -290,7 +290,8 @@ class VertexCount:
     def sample(self, u: _ArrayLike) -> Tuple[Any, Any]:
         """``(k, P(k))`` (int64, float64) for each uniform number of ``u`` in [0, 1]."""
     def pmf(self, k: _ArrayLike) -> Any:
-        """``P(k)``, 0 outside [1, k_max]."""
+        """``P(k)``, 0 outside [1, k_max]; a ``k`` that is not an integer
+        (2.5, NaN) is a ``ValueError``."""
     @property
     def k_max(self) -> int: ...
     @property
