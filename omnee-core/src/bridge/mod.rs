@@ -35,7 +35,7 @@ mod product;
 mod tests;
 
 pub use count::VertexCount;
-pub use isotropic::{REFERENCE_BUDGET, isotropic_transfer};
+pub use isotropic::{MAX_CANCELLATION, REFERENCE_BUDGET, isotropic_transfer};
 
 use crate::circumcircle::Axis;
 use crate::error::Error;

@@ -275,3 +275,62 @@ fn product_keeps_its_digits_past_the_range() {
     assert!((tiny / libm::exp(-200.0) - 1.0).abs() < 1e-4, "{tiny:e}");
     assert_eq!(Product::<f64>::exp_neg(0.0).value(), 1.0);
 }
+
+/// `I_k` at s = 1, σt = τ, σs = 0.8 τ and the cancellation `∫|f|/∫f` of its
+/// integrand, by an independent 50-digit evaluation of the same integral
+/// (mpmath's tanh-sinh quadrature, split at 1 + 10⁻⁴⁰ … 100).
+const HIGH_PRECISION: [(usize, f64, f64, f64); 27] = [
+    (2, 0.1, 0.025058943258097383, 4.93),
+    (4, 0.1, 0.0021151594746204533, 135.0),
+    (8, 0.1, 0.00017310784931874486, 8.52e+4),
+    (9, 0.1, 0.00010966261520863995, 4.96e+5),
+    (10, 0.1, 7.1655228793233451e-5, 3.1e+6),
+    (11, 0.1, 4.7947105175237304e-5, 2.08e+7),
+    (12, 0.1, 3.2692481874225192e-5, 1.5e+8),
+    (13, 0.1, 2.2633796111326915e-5, 1.15e+9),
+    (14, 0.1, 1.5868775058414495e-5, 9.37e+9),
+    (2, 1.1, 0.24203289520578002, 1.33),
+    (4, 1.1, 0.098435569763471006, 10.6),
+    (8, 1.1, 0.016205979423925687, 3.66e+3),
+    (9, 1.1, 0.010786083771229267, 2.03e+4),
+    (10, 1.1, 0.0072974526287560848, 1.23e+5),
+    (11, 1.1, 0.0050090921294354641, 8.06e+5),
+    (12, 1.1, 0.0034819845423618679, 5.69e+6),
+    (13, 1.1, 0.0024471615096410667, 4.3e+7),
+    (14, 1.1, 0.0017364121125959681, 3.46e+8),
+    (2, 10.0, 0.00023093991905818695, 1.0),
+    (4, 10.0, 0.00050322680444547174, 1.71),
+    (8, 10.0, 0.00096368422880097649, 72.5),
+    (9, 10.0, 0.0010157956754100235, 260.0),
+    (10, 10.0, 0.0010385657363719426, 1.06e+3),
+    (11, 10.0, 0.00103431112895219, 4.8e+3),
+    (12, 10.0, 0.0010068185684004332, 2.43e+4),
+    (13, 10.0, 0.00096066230032307338, 1.35e+5),
+    (14, 10.0, 0.00090063323670088952, 8.27e+5),
+];
+
+#[test]
+fn closed_form_keeps_ten_digits_or_names_k() {
+    for (k, tau, want, cancellation) in HIGH_PRECISION {
+        let got = isotropic_transfer(k, 1.0, 0.8 * tau, tau, REFERENCE_BUDGET);
+        if cancellation < 0.8 * MAX_CANCELLATION {
+            let got = got.unwrap();
+            assert!(
+                (got / want - 1.0).abs() < 1e-10,
+                "k {k}, τ {tau}: {got:e} vs {want:e}"
+            );
+        } else if cancellation > 1.25 * MAX_CANCELLATION {
+            assert_eq!(got.unwrap_err().field(), "k", "k {k}, τ {tau}");
+        }
+    }
+    // Past the table: every k up to 32 is a value or the named refusal, never
+    // a negative number (k = 20 gave −3.39 before the check).
+    for k in 1..=MAX_VERTICES {
+        for tau in [0.1, 1.1, 10.0] {
+            match isotropic_transfer(k, 1.0, 0.8 * tau, tau, REFERENCE_BUDGET) {
+                Ok(v) => assert!(v > 0.0 && v.is_finite(), "k {k}, τ {tau}: {v}"),
+                Err(e) => assert_eq!(e.field(), "k", "k {k}, τ {tau}"),
+            }
+        }
+    }
+}
