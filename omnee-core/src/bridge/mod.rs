@@ -184,14 +184,15 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
             }
             *v = x;
         }
+        // In the connection's unit L (s = s_u L): pdf = pdf_u · L^{−3k}.
         let ln_pdf = ln_factorial::<F>(k) + F::from_f64(3.0 * (k + 1) as f64) * l.ln()
-            - F::from_f64(3.0 * k as f64) * axis.s.ln()
+            - F::from_f64(3.0 * k as f64) * axis.s_unit.ln()
             + chain.ln_q
             - F::TWO * chain.ln_t;
         Some(BridgeSample {
             k,
             length,
-            pdf: saturate(ln_pdf.exp()),
+            pdf: self.from_unit(ln_pdf, 3 * k),
             phase_ratio: chain.ratio,
             weight: saturate(chain.ratio * length_weight(k, axis.s, length)),
         })
@@ -244,8 +245,11 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
     }
 
     /// The deflections `θ_i` and edge lengths `d_j` of the path
-    /// `x0, x_1 … x_k, x2`, passed to `visit(i, θ_i, d_i)` for `i = 1 … k`
-    /// and `visit(k + 1, −, d_{k+1})` last; `None` for a zero-length or
+    /// `x0, x_1 … x_k, x2`, in the connection's unit `L` (`d_j/L`: the points
+    /// taken relative to `x0` and scaled by `1/L` first, so that neither an
+    /// edge nor the deflection's products of lengths leave the range at any
+    /// scale), passed to `visit(i, θ_i, d_i/L)` for `i = 1 … k` and
+    /// `visit(k + 1, −, d_{k+1}/L)` last; `None` for a zero-length or
     /// non-finite edge.
     #[inline]
     fn walk(
@@ -253,13 +257,15 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
         vertices: &[F::Vec3],
         mut visit: impl FnMut(usize, Option<Deflection<F>>, F),
     ) -> Option<()> {
-        let mut from = self.axis.x0;
+        let axis = &self.axis;
+        let mut from = F::Vec3::new(F::ZERO, F::ZERO, F::ZERO);
         let mut edge_in: Option<(F::Vec3, F)> = None;
         for (j, &to) in vertices
             .iter()
-            .chain(core::iter::once(&self.axis.x2))
+            .chain(core::iter::once(&axis.x2))
             .enumerate()
         {
+            let to = axis.from_x0_unit(to);
             let edge = to - from;
             let d = edge.length();
             if !(d > F::ZERO && d.is_finite()) {
@@ -277,6 +283,16 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
             from = to;
         }
         Some(())
+    }
+
+    /// `e^{ln_u} · L^{−n}`: a quantity of dimension `m^{−n}` from the log of
+    /// its value in the connection's unit, saturating (0 below the range,
+    /// `F::MAX` above it).
+    #[inline]
+    fn from_unit(&self, ln_u: F, n: usize) -> F {
+        Product::exp(ln_u)
+            .times(Product::pow2(-(n as i32) * self.axis.unit.exponent))
+            .value()
     }
 
     /// The density of [`sample`](Self::sample) at the path `x0, vertices, x2`:
@@ -299,23 +315,30 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
         if found.is_none() {
             return F::ZERO;
         }
-        let ln_pdf = ln_factorial::<F>(k) + F::from_f64(3.0) * self.axis.s.ln() + ln_q
+        // Every length in the connection's unit: pdf = pdf_u · L^{−3k}.
+        let ln_pdf = ln_factorial::<F>(k) + F::from_f64(3.0) * self.axis.s_unit.ln() + ln_q
             - F::TWO * ln_d
             - F::from_f64((k + 1) as f64) * length.ln();
-        saturate(ln_pdf.exp())
+        self.from_unit(ln_pdf, 3 * k)
     }
 
     /// The kernel `Π_i p(θ_i) / Π_j d_j²` at the path `x0, vertices, x2`
     /// (m^{−2(k+1)}), the part of the integrand every bridge samples; 0 at
     /// coincident points. Finite (saturating).
     pub fn kernel(&self, vertices: &[F::Vec3]) -> F {
-        let mut value = F::ONE;
+        // In the connection's unit: kernel = kernel_u · L^{−2(k+1)}.
+        let mut value = Product::ONE;
         let found = self.walk(vertices, |_, theta, d| match theta {
-            Some(theta) => value *= self.phase.eval(theta),
-            None => value *= F::ONE / (d * d),
+            Some(theta) => value = value.times_real(self.phase.eval(theta)),
+            None => value = value.over_real(d).over_real(d),
         });
         match found {
-            Some(()) if !vertices.is_empty() => saturate(value),
+            Some(()) if !vertices.is_empty() => {
+                let n = 2 * (vertices.len() as i32 + 1);
+                value
+                    .times(Product::pow2(-n * self.axis.unit.exponent))
+                    .value()
+            }
             _ => F::ZERO,
         }
     }
@@ -439,14 +462,16 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
         for j in 0..k {
             u[j][2] = stick_invert(d[j], tail[j], k - j);
         }
-        // The rotation from the chain's frame to the world (§14.3).
+        // The rotation from the chain's frame to the world (§14.3), the
+        // edges' directions formed in the connection's unit.
         let world = |j: usize| -> F::Vec3 {
+            let unit = |x: F::Vec3| self.axis.from_x0_unit(x);
             let from = if j == 0 {
-                self.axis.x0
+                F::Vec3::new(F::ZERO, F::ZERO, F::ZERO)
             } else {
-                vertices[j - 1]
+                unit(vertices[j - 1])
             };
-            let to = if j == k { self.axis.x2 } else { vertices[j] };
+            let to = unit(if j == k { self.axis.x2 } else { vertices[j] });
             let e = to - from;
             e * (F::ONE / e.length())
         };

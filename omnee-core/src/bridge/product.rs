@@ -72,24 +72,42 @@ impl<F: Real> Product<F> {
         })
     }
 
-    /// `e^{−x}` for `x ≥ 0` as `e^{−r} · 2^{−n}` with `n = ⌊x/ln 2⌋` and
-    /// `r = x − n ln 2 ∈ [0, ln 2)`, so that it does not underflow where
-    /// `e^{−x}` alone would (x > 103 in f32); `x = +∞` is 0.
+    /// `e^x` as `e^r · 2^n` with `n = ⌊x/ln 2⌋` and `r = x − n ln 2 ∈
+    /// [0, ln 2)`, so that it leaves no range where `e^x` alone would
+    /// (|x| > 88 in f32); inside the range `e^x` itself (one rounding);
+    /// `x = −∞` is 0, NaN is 0.
     #[inline]
-    pub(crate) fn exp_neg(x: F) -> Self {
-        if !(x > F::ZERO) {
-            return Self::ONE;
+    pub(crate) fn exp(x: F) -> Self {
+        let plain = x.exp();
+        if plain >= F::MIN_POSITIVE && plain.is_finite() {
+            return Self::of(plain);
         }
         let ln2 = F::from_f64(core::f64::consts::LN_2);
         let n = (x / ln2).floor();
-        if !(n < F::from_f64(f64::from(FAR))) {
+        let far = F::from_f64(f64::from(FAR));
+        if !(n > -far) {
             return Self { m: F::ZERO, e: 0 };
         }
+        if !(n < far) {
+            return Self { m: F::ONE, e: FAR };
+        }
         let r = (x - n * ln2).max(F::ZERO);
-        Self::of((-r).exp()).times(Self {
+        Self::of(r.exp()).times(Self::pow2(n.to_f64() as i32))
+    }
+
+    /// `e^{−x}` for `x ≥ 0` ([`exp`](Self::exp) of `−x`); `x = +∞` is 0.
+    #[inline]
+    pub(crate) fn exp_neg(x: F) -> Self {
+        Self::exp(-x)
+    }
+
+    /// `2ⁿ`.
+    #[inline]
+    pub(crate) fn pow2(n: i32) -> Self {
+        Self {
             m: F::ONE,
-            e: -(n.to_f64() as i32),
-        })
+            e: n.clamp(-FAR, FAR),
+        }
     }
 
     /// The product in `F`: `m · 2^e`, `F::MAX` above the range, 0 (or a

@@ -334,3 +334,45 @@ fn closed_form_keeps_ten_digits_or_names_k() {
         }
     }
 }
+
+/// At every scale the density at the sampled points is the sample's own
+/// (both saturated where beyond the range), and the inverse gives back the
+/// numbers: every length is taken in the connection's unit.
+fn density_and_inverse_hold_at_scale<F: Real>(n: i32, tol: f64) {
+    let u = [[0.3, 0.4, 0.5], [0.6, 0.2, 0.7], [0.15, 0.85, 0.35]].map(|r| r.map(F::from_f64));
+    let x2 = F::Vec3::new(F::ONE, F::from_f64(-0.25), F::from_f64(0.5)).scale_pow2(n);
+    let x0 = F::Vec3::new(F::from_f64(0.5), F::ZERO, F::ZERO).scale_pow2(n);
+    let b = Bridge::new(x0, x2, HenyeyGreenstein::new(F::from_f64(0.9)).unwrap()).unwrap();
+    for k in 1..=3 {
+        let mut x = [x0; 3];
+        let s = b.sample(&u[..k], &mut x).unwrap();
+        let pdf = b.pdf(&x[..k]);
+        if s.pdf == F::MAX || s.pdf.to_f64() < F::MIN_POSITIVE.to_f64() {
+            assert_eq!(pdf, s.pdf, "k {k}, 2^{n}");
+        } else {
+            assert!(
+                (pdf / s.pdf - F::ONE).abs().to_f64() < tol,
+                "k {k}, 2^{n}: {pdf:?} vs {:?}",
+                s.pdf
+            );
+        }
+        let mut back = [[F::ZERO; 3]; 3];
+        b.invert(&x[..k], &mut back).unwrap();
+        for (got, want) in back[..k].iter().flatten().zip(u[..k].iter().flatten()) {
+            assert!(
+                (*got - *want).abs().to_f64() < 100.0 * tol,
+                "k {k}, 2^{n}: {back:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn density_and_inverse_hold_across_the_exponent_range() {
+    for n in [-120, -100, -60, -34, -20, 0, 20, 34, 60, 100, 120] {
+        density_and_inverse_hold_at_scale::<f32>(n, 1e-5);
+    }
+    for n in [-1000, -600, -300, 0, 300, 600, 1000] {
+        density_and_inverse_hold_at_scale::<f64>(n, 1e-12);
+    }
+}
