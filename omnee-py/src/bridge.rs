@@ -269,9 +269,10 @@ impl Bridge {
                 None => Phase::parse("iso")?,
             },
         };
-        // Refused in either precision: non-finite or coincident end points.
+        // Refused here in f64 (non-finite or coincident end points); a
+        // float32 call checks float32 itself (end points 1e-300 apart are
+        // a bridge in f64, and coincide in f32).
         bridge.core::<f64>(&mut TableStorage::default())?;
-        bridge.core::<f32>(&mut TableStorage::default())?;
         Ok(bridge)
     }
 
@@ -513,5 +514,13 @@ impl VertexCount {
     #[getter]
     fn mean(&self) -> f64 {
         self.count.mean()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "VertexCount(k_max={}, mean={})",
+            self.count.k_max(),
+            self.count.mean()
+        )
     }
 }
