@@ -44,7 +44,9 @@ pub const MAX_CANCELLATION: f64 = 1e6;
 /// integral diverges: chains wander off to infinity), and when the
 /// quadrature needs more than `budget` evaluations of the integrand
 /// (`Error::NotConverged` on the field `"reference"`, with the evaluations
-/// spent, as every quadrature's [`Budget`]): it never runs longer.
+/// spent, as every quadrature's [`Budget`]): it never runs longer. A value
+/// beyond f64's range (σs ∝ 1/s at s = 1e-300: about 1e600) fails on the
+/// field `"s"`.
 pub fn isotropic_transfer(
     k: usize,
     s: f64,
@@ -94,7 +96,16 @@ pub fn isotropic_transfer(
     for _ in 1..k {
         prefactor *= sigma_s / sigma_t;
     }
-    Ok(prefactor * libm::exp(-tau) * j)
+    let value = prefactor * libm::exp(-tau) * j;
+    if !value.is_finite() {
+        return Err(Error::OutOfRange {
+            field: "s",
+            value: s,
+            allowed: "a transfer I_k below f64's largest number (about sigma_s / s in a thin \
+                      medium, (sigma_s s)^k / s^2 in general)",
+        });
+    }
+    Ok(value)
 }
 
 /// The integrand over `v ∈ (0, 1)`, `y = 1/(1 − v)`, without `e^{−τ}`:

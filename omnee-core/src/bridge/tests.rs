@@ -72,6 +72,16 @@ fn closed_form_rejects_bad_input_and_keeps_its_budget() {
         })
     ));
     assert_eq!(isotropic_transfer(3, 1.0, 0.0, 1.0, 20), Ok(0.0));
+    // σs = 0.5/s at s = 1e-300: I_1 ≈ 1e600, beyond f64, named; at 1e-150
+    // it is λ⁻² times the unit one.
+    let e = isotropic_transfer(1, 1e-300, 0.5e300, 0.55e300, REFERENCE_BUDGET).unwrap_err();
+    assert_eq!(e.field(), "s");
+    let unit = isotropic_transfer(2, 1.0, 0.5, 0.55, REFERENCE_BUDGET).unwrap();
+    let tiny = isotropic_transfer(2, 1e-150, 0.5e150, 0.55e150, REFERENCE_BUDGET).unwrap();
+    assert!(
+        (tiny * 1e-300 / unit - 1.0).abs() < 1e-9,
+        "{tiny:e} vs {unit:e}"
+    );
 }
 
 #[test]
