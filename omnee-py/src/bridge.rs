@@ -520,8 +520,10 @@ impl VertexCount {
     }
 
     fn __repr__(&self) -> String {
+        // Not a constructor call (the constructor takes the medium, the
+        // repr shows what it made of it): Python's angle-bracket form.
         format!(
-            "VertexCount(k_max={}, mean={})",
+            "<omnee.VertexCount k_max={} mean={}>",
             self.count.k_max(),
             self.count.mean()
         )
