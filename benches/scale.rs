@@ -24,6 +24,16 @@
 //! errors understate their error; their invariance column is what this
 //! table shows of them.
 //!
+//! Bridges of k = 1, 2, 3 vertices (docs/math.md §14) follow in a table of
+//! their own: isotropic scattering, so that the unit problem's `I_k` is the
+//! closed form; each draw's estimate in f64 (`Bridge::estimate_f64`) times
+//! λ². Where `λ⁻² I_k` itself leaves f64 (λ = 1e-200 and below, 1e200 and
+//! above) the row says so instead. At `s = 0.6 max` a bridge's vertices
+//! reach beyond the largest number (D > s, in every direction), so the
+//! paths through them are not representable and the estimate is that of
+//! the representable part of `I_k`, less than 1 (the column of draws with a
+//! path says how much is missing).
+//!
 //! Run: `cargo bench --bench scale` (a minute), optional `-- --samples N`.
 //! Writes `docs/results/scale.md`.
 
@@ -31,10 +41,11 @@ mod common;
 
 use common::{arg, docs_path};
 use glam::DVec3;
+use omnee::bridge::{Bridge, MAX_VERTICES, REFERENCE_BUDGET, isotropic_transfer};
 use omnee::lobe::{LobeMis, LobeRay, LobeToPoint, PhaseLobe, WithLobe};
 use omnee::medium::{Homogeneous, Region};
 use omnee::mis::OmneeMis;
-use omnee::phase::HenyeyGreenstein;
+use omnee::phase::{HenyeyGreenstein, Isotropic};
 use omnee::reference::PointToPoint;
 use omnee::rng::SplitMix64;
 use omnee::sampling::{
@@ -250,6 +261,87 @@ fn table<F: Real>(out: &mut String, name: &str, scales: &[f64], n: usize) {
     }
 }
 
+/// The bridges of `k` vertices at scale λ in precision `F` over `n` draws:
+/// the mean and standard error of `λ² · estimate` (f64), the draws with a
+/// path, and the non-finite or negative estimates; `None` if the scaled
+/// problem was refused.
+fn bridge_row<F: Real>(k: usize, lambda: f64, n: usize) -> Option<Row> {
+    let v = |x: f64, y: f64| F::Vec3::new(F::from_f64(x), F::from_f64(y), F::ZERO);
+    let bridge = Bridge::new(v(lambda, 0.0), v(0.0, lambda), Isotropic).ok()?;
+    let medium =
+        Homogeneous::from_extinction(F::from_f64(0.4 / lambda), F::from_f64(0.5 / lambda)).ok()?;
+    let mut rng = SplitMix64::new(0xb1d6e + k as u64);
+    let mut x = [bridge.axis.x0; MAX_VERTICES];
+    let mut u = [[F::ZERO; 3]; MAX_VERTICES];
+    let (mut sum, mut sum2) = (0.0, 0.0);
+    let mut row = Row {
+        mean: 0.0,
+        se: 0.0,
+        unit_mean: f64::NAN,
+        drawn: 0,
+        refused: 0,
+        bad: 0,
+    };
+    for _ in 0..n {
+        for ui in u[..k].iter_mut() {
+            *ui = core::array::from_fn(|_| uniform(&mut rng));
+        }
+        let Some(b) = bridge.sample(&u[..k], &mut x[..k]) else {
+            continue;
+        };
+        row.drawn += 1;
+        let e = bridge.estimate_f64(&b, &medium) * lambda * lambda;
+        if !(e.is_finite() && e >= 0.0) {
+            row.bad += 1;
+            continue;
+        }
+        sum += e;
+        sum2 += e * e;
+    }
+    row.mean = sum / n as f64;
+    row.se = ((sum2 / n as f64 - row.mean * row.mean).max(0.0) / n as f64).sqrt();
+    Some(row)
+}
+
+/// The bridge table of precision `F`: k = 1, 2, 3 at every scale.
+fn bridge_table<F: Real>(out: &mut String, name: &str, scales: &[f64], n: usize) {
+    writeln!(out, "\n### Bridges, {name}\n").unwrap();
+    writeln!(
+        out,
+        "| s = √2 λ | k | λ² · estimate ÷ closed form | ± (1 se) | draws with a path | refused | non-finite or negative |"
+    )
+    .unwrap();
+    writeln!(out, "|---|---|---|---|---|---|---|").unwrap();
+    for &lambda in scales {
+        for k in 1..=3 {
+            let unit = isotropic_transfer(k, 2f64.sqrt(), 0.4, 0.5, REFERENCE_BUDGET).unwrap();
+            let scaled = unit / lambda / lambda;
+            let s = lambda * 2f64.sqrt();
+            if !(scaled.is_normal() && scaled < f64::MAX) {
+                writeln!(
+                    out,
+                    "| {s:.2e} | {k} | λ⁻² I_k ≈ 1e{:.0} is beyond f64 | | | | |",
+                    unit.log10() - 2.0 * lambda.log10()
+                )
+                .unwrap();
+                continue;
+            }
+            match bridge_row::<F>(k, lambda, n) {
+                Some(row) => writeln!(
+                    out,
+                    "| {s:.2e} | {k} | {:.4} | {:.4} | {:.1} % | 0 | {} |",
+                    row.mean / unit,
+                    row.se / unit,
+                    100.0 * row.drawn as f64 / n as f64,
+                    row.bad
+                )
+                .unwrap(),
+                None => writeln!(out, "| {s:.2e} | {k} | | | | 1 | |").unwrap(),
+            }
+        }
+    }
+}
+
 fn main() {
     let n: usize = arg("--samples", 1 << 18);
     let start = std::time::Instant::now();
@@ -259,7 +351,9 @@ fn main() {
          `x0 = λ (1, 0, 0)`, `x2 = λ (0, 1, 0)`, σs = 0.4/λ, σa = 0.1/λ, HG 0.5, {n} draws per row,\n\
          each draw's estimate `(f_c λ)(weight λ)` in f64 (the transfer λ⁻² I itself\n\
          leaves the range), against the f64 quadrature reference of the unit problem.\n\
-         The last scale of each precision is `(0.6 max, 0, 0)` to `(0, 0.6 max, 0)`.\n"
+         The last scale of each precision is `(0.6 max, 0, 0)` to `(0, 0.6 max, 0)`;\n\
+         there a bridge's paths reach beyond the largest number, and only the\n\
+         representable ones are estimated (the bridge tables' last rows).\n"
     );
     let f32_max = f32::MAX as f64;
     table::<f32>(
@@ -295,6 +389,10 @@ fn main() {
         ],
         n,
     );
+    let bridge_scales = [1e-30, 1e-20, 1.0, 1e20, 1e30, 0.6 * f32_max];
+    bridge_table::<f32>(&mut out, "f32", &bridge_scales.map(|s| s / 2f64.sqrt()), n);
+    let bridge_scales = [1e-300, 1e-200, 1e-100, 1.0, 1e100, 1e200, 0.6 * f64::MAX];
+    bridge_table::<f64>(&mut out, "f64", &bridge_scales.map(|s| s / 2f64.sqrt()), n);
     writeln!(
         out,
         "\n{:.0} s on the shared 2-core machine.",

@@ -161,12 +161,13 @@ pub fn run() {
     }
 }
 
-/// Prints `e` and exits with its code: 2 for bad input, 1 when a file
+/// Prints `e` and exits with its code: 2 for bad input and for a reference
+/// that spent its budget (the message names `--reference`), 1 when a file
 /// could not be written, 130 when cancelled.
 fn exit(e: RenderError) -> ! {
     eprintln!("omnee: error: {e}");
     std::process::exit(match e {
-        RenderError::Input(_) => 2,
+        RenderError::Input(_) | RenderError::NotConverged(_) => 2,
         RenderError::Io(_) => 1,
         RenderError::Cancelled => 130,
     });

@@ -625,7 +625,8 @@ extern "C" {
 // measures and the weight (p/q) D^{k+1}/(s³ k!).
 //
 // `OMNEE_NONE` when the numbers map to no contributing path (an edge of
-// length 0): the sample and `vertices[0..k)` are zero. On an error
+// length 0, or a vertex beyond the largest number, which end points near
+// it can ask for): the sample and `vertices[0..k)` are zero. On an error
 // (k = 0 or > OMNEE_MAX_VERTICES and u or vertices NULL:
 // `OMNEE_ERROR_OUT_OF_RANGE`/`_NULL`; capacity < k: `OMNEE_ERROR_OUT_OF_RANGE`,
 // field "capacity"; a NaN or infinite u: `OMNEE_ERROR_NOT_FINITE`; u outside
@@ -746,7 +747,11 @@ omnee_status omnee_bridge_estimate_f64(const struct omnee_problem_f64 *problem,
 // bounded by `budget` evaluations of the integrand
 // (`OMNEE_REFERENCE_BUDGET` is the default, tens of milliseconds at most):
 // a quadrature that spends it returns `OMNEE_ERROR_NOT_CONVERGED` (field
-// "reference") and `*reference` = 0.
+// "reference") and `*reference` = 0. The integrand's positive and negative
+// parts cancel more with every vertex and in thinner media: where fewer
+// than ten digits would be left (from k = 10 at σt s = 0.1, 12 at 1.1, 15
+// at 10; docs/math.md §14.6) it returns `OMNEE_ERROR_OUT_OF_RANGE` (field
+// "k") and `*reference` = 0, never a wrong value.
 omnee_status omnee_bridge_reference_f32(const struct omnee_problem_f32 *problem,
                                         size_t k,
                                         size_t budget,
@@ -1207,9 +1212,10 @@ omnee_status omnee_problem_estimate_f64(const struct omnee_problem_f64 *problem,
 // the phase function `phase` (double precision, whatever the problem's).
 // Takes milliseconds, at most 0.2 s for a receiver normal and θmax = π: a
 // reference, not a per-sample call. Its cost is bounded: a quadrature that
-// spends its budget of evaluations (about two seconds) before meeting its
-// tolerance returns `OMNEE_ERROR_NOT_CONVERGED` (field "reference") and
-// `*reference` = 0.
+// spends its budget of evaluations (about a second; a normal at right
+// angles to x2 − x0, where the receiver's horizon passes through the axis,
+// is the known case) before meeting its tolerance returns
+// `OMNEE_ERROR_NOT_CONVERGED` (field "reference") and `*reference` = 0.
 omnee_status omnee_problem_reference_f32(const struct omnee_problem_f32 *problem,
                                          const struct omnee_phase_f64 *phase,
                                          double *reference,

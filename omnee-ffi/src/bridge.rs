@@ -103,7 +103,8 @@ fn bridge_problem<F: Precision>(problem: Option<&F::Problem>) -> Result<PointToP
 /// measures and the weight (p/q) D^{k+1}/(s³ k!).
 ///
 /// `OMNEE_NONE` when the numbers map to no contributing path (an edge of
-/// length 0): the sample and `vertices[0..k)` are zero. On an error
+/// length 0, or a vertex beyond the largest number, which end points near
+/// it can ask for): the sample and `vertices[0..k)` are zero. On an error
 /// (k = 0 or > OMNEE_MAX_VERTICES and u or vertices NULL:
 /// `OMNEE_ERROR_OUT_OF_RANGE`/`_NULL`; capacity < k: `OMNEE_ERROR_OUT_OF_RANGE`,
 /// field "capacity"; a NaN or infinite u: `OMNEE_ERROR_NOT_FINITE`; u outside
@@ -487,7 +488,11 @@ fn estimate_of<F: Precision>(
 /// bounded by `budget` evaluations of the integrand
 /// (`OMNEE_REFERENCE_BUDGET` is the default, tens of milliseconds at most):
 /// a quadrature that spends it returns `OMNEE_ERROR_NOT_CONVERGED` (field
-/// "reference") and `*reference` = 0.
+/// "reference") and `*reference` = 0. The integrand's positive and negative
+/// parts cancel more with every vertex and in thinner media: where fewer
+/// than ten digits would be left (from k = 10 at σt s = 0.1, 12 at 1.1, 15
+/// at 10; docs/math.md §14.6) it returns `OMNEE_ERROR_OUT_OF_RANGE` (field
+/// "k") and `*reference` = 0, never a wrong value.
 #[unsafe(no_mangle)]
 pub extern "C" fn omnee_bridge_reference_f32(
     problem: Option<&omnee_problem_f32>,

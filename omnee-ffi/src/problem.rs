@@ -161,9 +161,10 @@ fn estimate_of<F: Precision>(
 /// the phase function `phase` (double precision, whatever the problem's).
 /// Takes milliseconds, at most 0.2 s for a receiver normal and θmax = π: a
 /// reference, not a per-sample call. Its cost is bounded: a quadrature that
-/// spends its budget of evaluations (about two seconds) before meeting its
-/// tolerance returns `OMNEE_ERROR_NOT_CONVERGED` (field "reference") and
-/// `*reference` = 0.
+/// spends its budget of evaluations (about a second; a normal at right
+/// angles to x2 − x0, where the receiver's horizon passes through the axis,
+/// is the known case) before meeting its tolerance returns
+/// `OMNEE_ERROR_NOT_CONVERGED` (field "reference") and `*reference` = 0.
 #[unsafe(no_mangle)]
 pub extern "C" fn omnee_problem_reference_f32(
     problem: Option<&omnee_problem_f32>,

@@ -254,6 +254,8 @@ int main(void) {
   bad_input();
   estimates_f32();
   estimates_f64();
+  scales_f32();
+  scales_f64();
   printf("bridges: %d passed, %d failed\n", passed, failed);
   return failed == 0 ? 0 : 1;
 }

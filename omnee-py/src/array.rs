@@ -219,7 +219,13 @@ impl Bad {
                 row,
                 error,
                 precision,
-            } => PyValueError::new_err(format!("row {row}: {error} (in {precision})")),
+            } => {
+                let allowed = match error {
+                    omnee_core::Error::NotFinite { .. } => "; allowed: finite coordinates",
+                    _ => "",
+                };
+                PyValueError::new_err(format!("row {row}: {error} (in {precision}){allowed}"))
+            }
         }
     }
 }
@@ -326,6 +332,12 @@ pub fn point(arg: &str, obj: &Bound<'_, PyAny>) -> PyResult<[f64; 3]> {
         return Err(PyValueError::new_err(format!(
             "{arg}: shape {}; allowed: (3,), a point x, y, z",
             shape_text(&shape)
+        )));
+    }
+    if let Some((i, v)) = first_non_finite(&values) {
+        return Err(PyValueError::new_err(format!(
+            "{arg}[{i}] = {} is out of range; allowed: finite coordinates",
+            number(v)
         )));
     }
     Ok([values[0], values[1], values[2]])

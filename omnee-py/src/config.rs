@@ -55,8 +55,7 @@ impl End {
             Floats::F64(a) => a.shape().to_vec(),
         };
         match (shape.as_slice(), floats) {
-            ([3], Floats::F32(a)) => Ok(End::Point(point(slice(&a)))),
-            ([3], Floats::F64(a)) => Ok(End::Point(point(slice(&a)))),
+            ([3], _) => crate::array::point(arg, obj).map(End::Point),
             ([_, 3], Floats::F32(a)) => Ok(End::F32(a.as_unbound().clone_ref(obj.py()))),
             ([_, 3], Floats::F64(a)) => Ok(End::F64(a.as_unbound().clone_ref(obj.py()))),
             _ => Err(PyValueError::new_err(format!(
@@ -139,11 +138,6 @@ impl End {
             (_, n) => format!("<array of shape ({}, 3)>", n.unwrap_or(0)),
         }
     }
-}
-
-/// The three coordinates of a point in f64.
-fn point<F: Real>(a: &[F]) -> [f64; 3] {
-    [a[0].to_f64(), a[1].to_f64(), a[2].to_f64()]
 }
 
 /// A technique's parameters as given (checked in f64 by

@@ -4,8 +4,8 @@
 //! reference that spent its evaluation budget is `omnee.NotConvergedError`.
 
 use omnee_render::RenderError;
+use pyo3::PyErr;
 use pyo3::exceptions::{PyOSError, PyValueError};
-use pyo3::{PyErr, PyResult};
 
 pyo3::create_exception!(
     omnee,
@@ -27,25 +27,15 @@ pub fn core(e: omnee_core::Error) -> PyErr {
     }
 }
 
-/// The reference that [`omnee_render::point::estimate::estimate`] reports:
-/// the one-vertex quadrature returns NaN exactly when it spent its budget
-/// (the core's `PointToPoint::integral`), which is `NotConvergedError`.
-pub fn reference(value: Option<f64>) -> PyResult<Option<f64>> {
-    match value {
-        Some(v) if v.is_nan() => Err(NotConvergedError::new_err(
-            "reference: the quadrature did not converge within its budget",
-        )),
-        v => Ok(v),
-    }
-}
-
-/// The library's validation: bad input is a `ValueError`, a file that
-/// cannot be read (a `table:` phase function) an `OSError`, a cancelled
-/// computation `KeyboardInterrupt`.
+/// The library's validation: bad input is a `ValueError`, a reference that
+/// spent its budget `NotConvergedError`, a file that cannot be read (a
+/// `table:` phase function) an `OSError`, a cancelled computation
+/// `KeyboardInterrupt`.
 pub fn render(e: RenderError) -> PyErr {
     match e {
         RenderError::Input(m) => PyValueError::new_err(m),
         RenderError::Io(m) => PyOSError::new_err(m),
+        RenderError::NotConverged(m) => NotConvergedError::new_err(m),
         RenderError::Cancelled => pyo3::exceptions::PyKeyboardInterrupt::new_err("cancelled"),
     }
 }

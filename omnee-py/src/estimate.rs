@@ -250,7 +250,7 @@ pub fn estimate<'py>(
     py.import("omnee")?.getattr("Estimate")?.call1((
         e.mean,
         e.stderr,
-        error::reference(e.reference)?,
+        e.reference,
         e.technique.used.name(),
         e.technique.reason.map(|r| r.to_string()),
         e.samples,

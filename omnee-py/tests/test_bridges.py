@@ -181,3 +181,42 @@ def test_vertex_count_matches_the_c_api_and_its_frequencies():
         count.sample([0.5, np.nan])
     with pytest.raises(ValueError, match=r"s = -1"):
         omnee.VertexCount(4, s=-1.0, **MEDIUM)
+    # pmf takes integers of any dtype (and huge or negative ones are 0), never
+    # a truncated 2.5 or a NaN.
+    assert count.pmf(2) == pmf[2] and count.pmf(np.float32(3.0)) == pmf[3]
+    assert list(count.pmf([-5, 2**62, 1e300])) == [0.0, 0.0, 0.0]
+    for bad, shown in [(2.5, "2.5"), (np.nan, "nan"), (np.inf, "inf")]:
+        with pytest.raises(ValueError, match=rf"k\[1\] = {shown} is out of range; allowed: integers"):
+            count.pmf([1, bad])
+
+
+def test_bridges_at_extreme_scales_keep_the_scale_law():
+    """End points λ apart: a float64 bridge at λ = 1e±300 and a float32 one at
+    1e±30 give the unit bridge's numbers scaled (vertices λ, weight λ^{k-2}
+    for k = 2: the same), its density and inverse hold, and the estimate of
+    I_k (σ scaled by 1/λ) is λ⁻² times the unit one. A float32 call on a
+    bridge whose end points coincide in float32 is a ValueError naming them."""
+    u = np.array([[0.3, 0.4, 0.5], [0.6, 0.2, 0.7]])
+    x2 = np.array([1.0, -0.25, 0.5])
+    unit = omnee.Bridge(x0=(0, 0, 0), x2=x2, phase="hg:0.9").sample(u)
+    for lam, dtype in [(1e-300, np.float64), (1e300, np.float64), (1e-30, np.float32),
+                       (1e30, np.float32)]:
+        b = omnee.Bridge(x0=(0, 0, 0), x2=x2 * lam, phase="hg:0.9")
+        s = b.sample(u.astype(dtype))
+        rtol = 1e-12 if dtype == np.float64 else 1e-5
+        assert s.valid
+        np.testing.assert_allclose(s.vertices / lam, unit.vertices, rtol=rtol * 10, atol=1e-6)
+        assert s.weight == pytest.approx(unit.weight, rel=rtol * 10)
+        assert b.pdf(s.vertices) == pytest.approx(s.pdf, rel=rtol * 100) or s.pdf == np.finfo(dtype).max
+        back = b.invert(s.vertices)
+        assert back.valid
+        np.testing.assert_allclose(back.u, u, atol=rtol * 100)
+    with pytest.raises(ValueError, match=r"x0/x2: .* \(in float32\)"):
+        omnee.Bridge(x0=(0, 0, 0), x2=x2 * 1e-300).sample(u.astype(np.float32))
+    one = omnee.estimate(x0=(0, 0, 0), x2=(0, 0, 1), sigma_s=0.5, sigma_t=0.55, phase="iso",
+                         vertices=2, samples=20_000)
+    for lam, dtype in [(1e-30, np.float32), (1e30, np.float32), (1e-150, np.float64)]:
+        e = omnee.estimate(x0=(0, 0, 0), x2=(0, 0, lam), sigma_s=0.5 / lam, sigma_t=0.55 / lam,
+                           phase="iso", vertices=2, samples=20_000, dtype=dtype)
+        assert e.mean * lam * lam == pytest.approx(one.mean, rel=1e-4), (lam, e)
+        assert e.reference * lam * lam == pytest.approx(one.reference, rel=1e-9)

@@ -110,6 +110,23 @@ def test_float64_by_default_so_that_a_small_transfer_does_not_underflow():
     assert f32.mean == 0.0 and f32.stderr == 0.0
 
 
+def test_a_reference_that_spends_its_budget_is_not_converged_error():
+    """A receiver normal at right angles to x2 - x0: the quadrature of the
+    clipped cosine spends its bounded budget (a second or so) and raises
+    NotConvergedError (a RuntimeError, not a ValueError: the input is valid);
+    without the reference the same problem estimates."""
+    kw = dict(x0=(0, 0, 0), x2=(0, 0, 1), sigma_s=0.5, sigma_t=0.55, technique="omnee",
+              receiver_normal=(1, 0, 0), samples=20_000)
+    try:
+        e = omnee.estimate(**kw)
+    except omnee.NotConvergedError as err:
+        assert not isinstance(err, ValueError)
+        assert "reference: the quadrature did not converge within its budget" in str(err)
+    else:  # Should the quadrature converge one day, it must agree.
+        assert abs(e.mean - e.reference) < 5.5 * e.stderr, e
+    assert omnee.estimate(reference=False, **kw).mean > 0
+
+
 @pytest.mark.parametrize("reference", [False, True])
 def test_ctrl_c_interrupts_at_once_even_at_2_to_the_40_samples(reference):
     """Ctrl-C (here `_thread.interrupt_main`, which trips the same flag as

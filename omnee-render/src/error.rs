@@ -1,7 +1,9 @@
-//! The library's error: bad input, or a file that could not be read or
-//! written. Every input message names the field, its value and the allowed
-//! range; front ends print it (the command line exits with 2 for input, 1
-//! for files; Python raises `ValueError` or `OSError`).
+//! The library's error: bad input, a reference that spent its evaluation
+//! budget, or a file that could not be read or written. Every input message
+//! names the field, its value and the allowed range; front ends print it
+//! (the command line exits with 2 for input and a spent budget, 1 for
+//! files; Python raises `ValueError`, `omnee.NotConvergedError` or
+//! `OSError`).
 
 use std::fmt;
 
@@ -14,6 +16,11 @@ pub enum RenderError {
     /// Writing a file failed (reading a scene or a table that is not there
     /// is [`RenderError::Input`]: the name given is wrong).
     Io(String),
+    /// A quadrature reference spent its evaluation budget (the core's
+    /// `Error::NotConverged`): the input was valid, the reference could not
+    /// be computed within its bounded cost. The message names `reference`
+    /// and what to do about it.
+    NotConverged(String),
     /// The caller cancelled the work (a render, an estimate) before it was
     /// done.
     Cancelled,
@@ -32,6 +39,7 @@ impl RenderError {
         match self {
             RenderError::Input(m) => RenderError::Input(format!("{context}: {m}")),
             RenderError::Io(m) => RenderError::Io(format!("{context}: {m}")),
+            RenderError::NotConverged(m) => RenderError::NotConverged(format!("{context}: {m}")),
             RenderError::Cancelled => RenderError::Cancelled,
         }
     }
@@ -40,7 +48,9 @@ impl RenderError {
 impl fmt::Display for RenderError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            RenderError::Input(m) | RenderError::Io(m) => f.write_str(m),
+            RenderError::Input(m) | RenderError::Io(m) | RenderError::NotConverged(m) => {
+                f.write_str(m)
+            }
             RenderError::Cancelled => f.write_str("cancelled"),
         }
     }
@@ -88,12 +98,19 @@ impl std::error::Error for RenderError {}
 /// The result type of the library.
 pub type Result<T> = std::result::Result<T, RenderError>;
 
-/// The reference's core error (a spent budget), named by `reference`,
-/// with what to do about it.
+/// The reference's core error (a spent budget) as
+/// [`RenderError::NotConverged`], named by `reference`, with what to do
+/// about it.
 pub(crate) fn not_converged(spelling: Spelling, e: omnee_core::Error) -> RenderError {
     let reference = spelling.of("reference");
-    RenderError::Input(format!(
-        "{reference}: {e}; allowed: a problem whose reference converges (leave out {reference} \
-         to estimate without it)"
+    // The core's message names its field ("reference: the quadrature ...");
+    // the field is named here as the front end spells it, once.
+    let what = e.to_string();
+    let what = what
+        .strip_prefix(&format!("{}: ", e.field()))
+        .unwrap_or(&what);
+    RenderError::NotConverged(format!(
+        "{reference}: {what}; allowed: a problem whose reference converges (leave out \
+         {reference} to estimate without it)"
     ))
 }

@@ -71,7 +71,9 @@ pub fn run(a: SamplesArgs) -> Result<()> {
                 let (u, x) = (r.u, r.x1);
                 w(writeln!(
                     out,
-                    "{},{},{},{},{},{},{},{},{},{},{}",
+                    // Floats as `{:?}`: shortest round trip, with an exponent
+                    // at extreme scales (1e-30, not 30 zeros).
+                    "{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?}",
                     r.draw,
                     r.vertex,
                     u[0],
@@ -114,5 +116,17 @@ pub fn run(a: SamplesArgs) -> Result<()> {
             w(writeln!(out, "{v}"))?;
         }
     }
-    w(out.flush())
+    w(out.flush())?;
+    let saturated = s.saturated();
+    if saturated > 0 {
+        eprintln!(
+            "omnee: note: {saturated} of {} rows have a pdf or weight beyond {}'s range, listed \
+             as its largest number (their estimates are right, formed in f64); {} f64 lists \
+             densities up to 1.8e308",
+            s.rows.len(),
+            problem.precision,
+            Spelling::Options.of("precision"),
+        );
+    }
+    Ok(())
 }

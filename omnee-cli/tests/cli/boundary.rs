@@ -166,6 +166,151 @@ fn extreme_scales_estimate_the_scaled_reference() {
     assert!(v["reference"].as_f64().unwrap() > 1e299, "{v}");
 }
 
+/// Bridges at extreme scales: isotropic scattering between end points `s`
+/// apart, σs = 0.5/s and σt = 0.55/s, with `k` fixed or drawn: every order's
+/// `I_k` is `λ⁻²` times the unit problem's, and the estimate agrees with the
+/// closed form where the f32 estimate itself (about 1e59 at s = 1e-30) is
+/// beyond f32's range, and with the same numbers gives the unit problem's
+/// estimate scaled.
+#[test]
+fn bridges_at_extreme_scales_estimate_the_scaled_closed_form() {
+    // 12 comparisons (2 vertex numbers × (the unit problem and 5 scales)),
+    // each |z| < 5.5: the family fails less than once in 10⁶ runs.
+    let run_at = |precision: &str, s: f64, vertices: &str| {
+        let (sigma_s, sigma_t) = (format!("{:e}", 0.5 / s), format!("{:e}", 0.55 / s));
+        let x2 = format!("0,0,{s:e}");
+        let v = estimate(&[
+            "--x0",
+            "0,0,0",
+            "--x2",
+            &x2,
+            "--sigma-s",
+            &sigma_s,
+            "--sigma-t",
+            &sigma_t,
+            "--phase",
+            "iso",
+            "--vertices",
+            vertices,
+            "--precision",
+            precision,
+            "--samples",
+            "40000",
+            "--reference",
+        ]);
+        agrees(
+            &v,
+            5.5,
+            &format!("{precision} s = {s:e}, --vertices {vertices}"),
+        );
+        v
+    };
+    for vertices in ["3", "auto"] {
+        for precision in ["f32", "f64"] {
+            let unit = run_at(precision, 1.0, vertices);
+            let scales: &[f64] = if precision == "f32" {
+                &[1e-30, 1e30]
+            } else {
+                &[1e-150, 1e150, 1e-300]
+            };
+            for &s in scales {
+                if precision == "f64" && s == 1e-300 {
+                    // I_k ≈ 1e600: beyond f64, a named error.
+                    let x2 = "0,0,1e-300";
+                    refused(
+                        &[
+                            "estimate",
+                            "--x0",
+                            "0,0,0",
+                            "--x2",
+                            x2,
+                            "--sigma-s",
+                            "5e299",
+                            "--sigma-t",
+                            "5.5e299",
+                            "--phase",
+                            "iso",
+                            "--vertices",
+                            vertices,
+                            "--precision",
+                            "f64",
+                        ],
+                        "--x0/--x2/--sigma-s",
+                    );
+                    continue;
+                }
+                let v = run_at(precision, s, vertices);
+                let what = format!("{precision} s = {s:e}, --vertices {vertices}");
+                for key in ["mean", "reference"] {
+                    let scaled = v[key].as_f64().unwrap() * s * s;
+                    let want = unit[key].as_f64().unwrap();
+                    // The same numbers: the scaled estimate is the unit one
+                    // to the rounding of the precision.
+                    let tol = if precision == "f32" { 1e-4 } else { 1e-9 };
+                    assert!(
+                        (scaled / want - 1.0).abs() < tol,
+                        "{what}: {key} {scaled} vs {want}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// `samples` at s = 1e-30 in f32: the densities (about 1e90) are beyond
+/// f32 and listed saturated, with a note naming the way out; the estimates,
+/// formed in f64, are the scaled unit ones; the CSV keeps exponents.
+#[test]
+fn samples_at_extreme_scales_list_saturated_densities_with_a_note() {
+    let rows = |s: f64, precision: &str| {
+        let x2 = format!("{s:e},0,0");
+        let sigma = format!("{:e}", 0.5 / s);
+        let o = run(&[
+            "samples",
+            "--x0",
+            "0,0,0",
+            "--x2",
+            &x2,
+            "--sigma-s",
+            &sigma,
+            "--sigma-t",
+            &sigma,
+            "--phase",
+            "hg:0.9",
+            "--count",
+            "50",
+            "--precision",
+            precision,
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = stdout(&o);
+        let rows: Vec<Vec<f64>> = text
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+            .collect();
+        (rows, stderr(&o), text)
+    };
+    let (unit, note, _) = rows(1.0, "f32");
+    assert!(note.is_empty(), "{note}");
+    let (tiny, note, text) = rows(1e-30, "f32");
+    assert!(
+        note.starts_with("omnee: note: 50 of 50 rows") && note.contains("--precision f64"),
+        "{note}"
+    );
+    assert!(!text.contains("0000000000"), "{text}");
+    for (a, b) in unit.iter().zip(&tiny) {
+        assert_eq!(b[8], f64::from(f32::MAX));
+        assert!((b[10] * 1e-60 / a[10] - 1.0).abs() < 1e-5, "{a:?} vs {b:?}");
+    }
+    let (unit, _, _) = rows(1.0, "f64");
+    let (wide, note, _) = rows(1e-30, "f64");
+    assert!(note.is_empty(), "{note}");
+    for (a, b) in unit.iter().zip(&wide) {
+        assert!((b[8] * 1e-90 / a[8] - 1.0).abs() < 1e-9, "{a:?} vs {b:?}");
+    }
+}
+
 /// Where the transfer itself leaves f64's range the answer is a named
 /// error (above) or f64's rounding, 0 (below); never ∞ or NaN.
 #[test]

@@ -30,11 +30,12 @@
 
 mod count;
 mod isotropic;
+mod product;
 #[cfg(test)]
 mod tests;
 
 pub use count::VertexCount;
-pub use isotropic::{REFERENCE_BUDGET, isotropic_transfer};
+pub use isotropic::{MAX_CANCELLATION, REFERENCE_BUDGET, isotropic_transfer};
 
 use crate::circumcircle::Axis;
 use crate::error::Error;
@@ -42,6 +43,7 @@ use crate::medium::Homogeneous;
 use crate::phase::{Deflection, PhaseFunction};
 use crate::real::{Real, Vector};
 use crate::sampling::saturate;
+use product::Product;
 
 /// The largest number of inner vertices a bridge takes. Each vertex takes
 /// three uniform numbers.
@@ -182,14 +184,15 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
             }
             *v = x;
         }
+        // In the connection's unit L (s = s_u L): pdf = pdf_u · L^{−3k}.
         let ln_pdf = ln_factorial::<F>(k) + F::from_f64(3.0 * (k + 1) as f64) * l.ln()
-            - F::from_f64(3.0 * k as f64) * axis.s.ln()
+            - F::from_f64(3.0 * k as f64) * axis.s_unit.ln()
             + chain.ln_q
             - F::TWO * chain.ln_t;
         Some(BridgeSample {
             k,
             length,
-            pdf: saturate(ln_pdf.exp()),
+            pdf: self.from_unit(ln_pdf, 3 * k),
             phase_ratio: chain.ratio,
             weight: saturate(chain.ratio * length_weight(k, axis.s, length)),
         })
@@ -242,8 +245,11 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
     }
 
     /// The deflections `θ_i` and edge lengths `d_j` of the path
-    /// `x0, x_1 … x_k, x2`, passed to `visit(i, θ_i, d_i)` for `i = 1 … k`
-    /// and `visit(k + 1, −, d_{k+1})` last; `None` for a zero-length or
+    /// `x0, x_1 … x_k, x2`, in the connection's unit `L` (`d_j/L`: the points
+    /// taken relative to `x0` and scaled by `1/L` first, so that neither an
+    /// edge nor the deflection's products of lengths leave the range at any
+    /// scale), passed to `visit(i, θ_i, d_i/L)` for `i = 1 … k` and
+    /// `visit(k + 1, −, d_{k+1}/L)` last; `None` for a zero-length or
     /// non-finite edge.
     #[inline]
     fn walk(
@@ -251,13 +257,15 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
         vertices: &[F::Vec3],
         mut visit: impl FnMut(usize, Option<Deflection<F>>, F),
     ) -> Option<()> {
-        let mut from = self.axis.x0;
+        let axis = &self.axis;
+        let mut from = F::Vec3::new(F::ZERO, F::ZERO, F::ZERO);
         let mut edge_in: Option<(F::Vec3, F)> = None;
         for (j, &to) in vertices
             .iter()
-            .chain(core::iter::once(&self.axis.x2))
+            .chain(core::iter::once(&axis.x2))
             .enumerate()
         {
+            let to = axis.from_x0_unit(to);
             let edge = to - from;
             let d = edge.length();
             if !(d > F::ZERO && d.is_finite()) {
@@ -275,6 +283,16 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
             from = to;
         }
         Some(())
+    }
+
+    /// `e^{ln_u} · L^{−n}`: a quantity of dimension `m^{−n}` from the log of
+    /// its value in the connection's unit, saturating (0 below the range,
+    /// `F::MAX` above it).
+    #[inline]
+    fn from_unit(&self, ln_u: F, n: usize) -> F {
+        Product::exp(ln_u)
+            .times(Product::pow2(-(n as i32) * self.axis.unit.exponent))
+            .value()
     }
 
     /// The density of [`sample`](Self::sample) at the path `x0, vertices, x2`:
@@ -297,23 +315,30 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
         if found.is_none() {
             return F::ZERO;
         }
-        let ln_pdf = ln_factorial::<F>(k) + F::from_f64(3.0) * self.axis.s.ln() + ln_q
+        // Every length in the connection's unit: pdf = pdf_u · L^{−3k}.
+        let ln_pdf = ln_factorial::<F>(k) + F::from_f64(3.0) * self.axis.s_unit.ln() + ln_q
             - F::TWO * ln_d
             - F::from_f64((k + 1) as f64) * length.ln();
-        saturate(ln_pdf.exp())
+        self.from_unit(ln_pdf, 3 * k)
     }
 
     /// The kernel `Π_i p(θ_i) / Π_j d_j²` at the path `x0, vertices, x2`
     /// (m^{−2(k+1)}), the part of the integrand every bridge samples; 0 at
     /// coincident points. Finite (saturating).
     pub fn kernel(&self, vertices: &[F::Vec3]) -> F {
-        let mut value = F::ONE;
+        // In the connection's unit: kernel = kernel_u · L^{−2(k+1)}.
+        let mut value = Product::ONE;
         let found = self.walk(vertices, |_, theta, d| match theta {
-            Some(theta) => value *= self.phase.eval(theta),
-            None => value *= F::ONE / (d * d),
+            Some(theta) => value = value.times_real(self.phase.eval(theta)),
+            None => value = value.over_real(d).over_real(d),
         });
         match found {
-            Some(()) if !vertices.is_empty() => saturate(value),
+            Some(()) if !vertices.is_empty() => {
+                let n = 2 * (vertices.len() as i32 + 1);
+                value
+                    .times(Product::pow2(-n * self.axis.unit.exponent))
+                    .value()
+            }
             _ => F::ZERO,
         }
     }
@@ -325,12 +350,7 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
     /// `D^{k+1}` nor `e^{−σt D}` is formed alone (docs/math.md §14.5).
     /// Finite and ≥ 0.
     pub fn estimate(&self, sample: &BridgeSample<F>, medium: &Homogeneous<F>) -> F {
-        let depth = if medium.sigma_t() > F::ZERO {
-            medium.sigma_t() * sample.length
-        } else {
-            F::ZERO
-        };
-        self.estimate_at_depth(sample, medium.sigma_s(), depth)
+        self.estimate_at_depth(sample, medium.sigma_s(), self.depth(sample, medium))
     }
 
     /// The estimate from one bridge whose path has the optical depth
@@ -340,21 +360,69 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
     /// does with `a = (D/s) e^{−τ/(k+1)}` (docs/math.md §14.5, §14.9).
     /// Finite and ≥ 0 (saturating); 0 for σs ≤ 0.
     pub fn estimate_at_depth(&self, sample: &BridgeSample<F>, sigma_s: F, tau: F) -> F {
+        self.estimate_product(sample, sigma_s, tau).value()
+    }
+
+    /// [`estimate`](Self::estimate) in f64 whatever `F`: the product formed
+    /// in `F` with its power of two kept apart and applied in f64, so that
+    /// an estimate beyond `F`'s range (f32 at s = 1e-30: `I_k ∝ 1/s²`,
+    /// about 1e60 with σs ∝ 1/s) is still right. Finite and ≥ 0
+    /// (saturating at `f64::MAX`).
+    pub fn estimate_f64(&self, sample: &BridgeSample<F>, medium: &Homogeneous<F>) -> f64 {
+        self.estimate_product(sample, medium.sigma_s(), self.depth(sample, medium))
+            .to_f64()
+    }
+
+    /// The optical depth `σt D` of the sampled path in the infinite `medium`
+    /// (+∞ where the product leaves `F`'s range, a path no light crosses).
+    #[inline]
+    fn depth(&self, sample: &BridgeSample<F>, medium: &Homogeneous<F>) -> F {
+        if medium.sigma_t() > F::ZERO {
+            medium.sigma_t() * sample.length
+        } else {
+            F::ZERO
+        }
+    }
+
+    /// `σs^k e^{−τ} · weight` as `(p/q) · a · Π_{i=1}^k (σs s a / i) / s²`
+    /// with `a = (D/s) e^{−τ/(k+1)}` (docs/math.md §14.5): factor by factor
+    /// in `F`, and again as a [`Product`] where a partial product left the
+    /// normal range (its last factor would not bring it back exactly).
+    #[inline]
+    fn estimate_product(&self, sample: &BridgeSample<F>, sigma_s: F, tau: F) -> Product<F> {
         let (k, s) = (sample.k, self.axis.s);
         if k == 0 || !(sigma_s > F::ZERO) {
-            return F::ZERO;
+            return Product::of(F::ZERO);
         }
+        let n = F::from_f64((k + 1) as f64);
         let attenuation = if tau > F::ZERO {
-            (-tau / F::from_f64((k + 1) as f64)).exp()
+            (-tau / n).exp()
         } else {
             F::ONE
         };
         let a = sample.length / s * attenuation;
         let mut value = sample.phase_ratio * a;
+        let mut normal = normal_range(value);
         for i in 1..=k {
             value *= sigma_s * s * a / F::from_f64(i as f64);
+            normal &= normal_range(value);
         }
-        saturate(value / s / s)
+        let value = value / s / s;
+        if normal && normal_range(value) {
+            return Product::of(value);
+        }
+        let a = Product::of(sample.length)
+            .over_real(s)
+            .times(Product::exp_neg(tau / n));
+        let mut value = Product::of(sample.phase_ratio).times(a);
+        for i in 1..=k {
+            value = value
+                .times_real(sigma_s)
+                .times_real(s)
+                .times(a)
+                .over_real(F::from_f64(i as f64));
+        }
+        value.over_real(s).over_real(s)
     }
 
     /// The uniform numbers that [`sample`](Self::sample) maps to the path
@@ -394,14 +462,16 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
         for j in 0..k {
             u[j][2] = stick_invert(d[j], tail[j], k - j);
         }
-        // The rotation from the chain's frame to the world (§14.3).
+        // The rotation from the chain's frame to the world (§14.3), the
+        // edges' directions formed in the connection's unit.
         let world = |j: usize| -> F::Vec3 {
+            let unit = |x: F::Vec3| self.axis.from_x0_unit(x);
             let from = if j == 0 {
-                self.axis.x0
+                F::Vec3::new(F::ZERO, F::ZERO, F::ZERO)
             } else {
-                vertices[j - 1]
+                unit(vertices[j - 1])
             };
-            let to = if j == k { self.axis.x2 } else { vertices[j] };
+            let to = unit(if j == k { self.axis.x2 } else { vertices[j] });
             let e = to - from;
             e * (F::ONE / e.length())
         };
@@ -432,15 +502,37 @@ fn turn_of<F: Real>(y: F, x: F) -> F {
 }
 
 /// `D^{k+1}/(s³ k!)` as `(1/s²) (D/s) Π_{i=1}^k (D/i)/s`, factor by factor
-/// (saturating), the kernel over the density (docs/math.md §14.4).
+/// (saturating), the kernel over the density (docs/math.md §14.4); again as
+/// a [`Product`] where a partial product left the normal range (f32 at
+/// s = 1e-30: `1/s²` overflows, the weight `∝ s^{k−2}` need not).
 #[inline]
 fn length_weight<F: Real>(k: usize, s: F, length: F) -> F {
     let r = length / s;
     let mut value = r / s / s;
+    let mut normal = normal_range(value);
     for i in 1..=k {
         value *= r * s / F::from_f64(i as f64);
+        normal &= normal_range(value);
     }
-    value
+    if normal {
+        return value;
+    }
+    let r = Product::of(length).over_real(s);
+    let mut value = r.over_real(s).over_real(s);
+    for i in 1..=k {
+        value = value
+            .times(r)
+            .times_real(s)
+            .over_real(F::from_f64(i as f64));
+    }
+    value.value()
+}
+
+/// Whether `x` is a normal number (or 0 exactly is not): a partial product
+/// that stays in `[F::MIN_POSITIVE, F::MAX]` lost no digits to the range.
+#[inline]
+fn normal_range<F: Real>(x: F) -> bool {
+    x >= F::MIN_POSITIVE && x.is_finite()
 }
 
 /// One break of the stick: of the share `left` that `n + 1` edges still

@@ -83,7 +83,13 @@ impl Omnee<f32, HenyeyGreenstein<f32>> {
             });
         }
         let axis = &self.connection.axis;
-        let (x0, e, b1, b2, s) = (axis.x0, axis.e, axis.b1, axis.b2, axis.s);
+        // The triangle in the connection's unit L = 2ᵏ (s/L of order one),
+        // as the scalar sampler solves it: the sides scaled to metres by L,
+        // the density per L³ by L⁻³ (three exact products by 1/L while
+        // normal: the value leaves the range at most once, monotonely), the
+        // weight per 1/L by 1/L. At ordinary scales L = 1.
+        let (x0, e, b1, b2, s) = (axis.x0, axis.e, axis.b1, axis.b2, axis.s_unit);
+        let (length, inverse) = (axis.unit.length, axis.unit.inverse);
         let theta_max = self.connection.theta_max;
         let g = self.phase.g();
         let (one_minus_g, one_plus_g) = (1.0 - g, 1.0 + g);
@@ -150,28 +156,37 @@ impl Omnee<f32, HenyeyGreenstein<f32>> {
             let d1 = s * sin_beta_ * inv_sin_theta;
             let d2 = s * sin_alpha_ * inv_sin_theta;
             let (sin_phi, cos_phi) = sin_cos_turn(clamp_unit(u2[i]));
-            let (p1, h) = (d1 * cos_alpha, d1 * sin_alpha);
-            // p = p(θ) sinc θ · s/(d1 d2)², k/p = θ/(s sin θ).
+            let (p1, h) = (d1 * cos_alpha * length, d1 * sin_alpha * length);
+            // p = p(θ) sinc θ · s/(d1 d2)², k/p = θ/(s sin θ), per L³ and
+            // per 1/L.
             let d12 = d1 * d2;
             let phase_pdf = pdf_scale * (k2 * k);
-            let pdf = phase_pdf * sin_theta_ * s / (theta_ * (d12 * d12));
-            let weight = theta_ * inv_sin_theta * inv_s;
-            // `&`, not `&&`: no branches in the loop body. `x < ∞` is
-            // `is_finite` for the non-negative pdf and weight (NaN fails).
+            let pdf_unit = phase_pdf * sin_theta_ * s / (theta_ * (d12 * d12));
+            let pdf = pdf_unit * inverse * inverse * inverse;
+            let weight = theta_ * inv_sin_theta * inv_s * inverse;
+            let x = x0.x + e.x * p1 + (b1.x * cos_phi + b2.x * sin_phi) * h;
+            let y = x0.y + e.y * p1 + (b1.y * cos_phi + b2.y * sin_phi) * h;
+            let z = x0.z + e.z * p1 + (b1.z * cos_phi + b2.z * sin_phi) * h;
+            // `&`, not `&&`: no branches in the loop body. `|x| < ∞` is
+            // `is_finite` (NaN fails): a vertex beyond the largest number
+            // is no sample, as in the scalar sampler.
             let ok = (theta < theta_max)
                 & (d1 > 0.0)
                 & (d2 > 0.0)
-                & (pdf > 0.0)
-                & (pdf < f32::INFINITY)
-                & (weight < f32::INFINITY)
+                & (pdf_unit > 0.0)
+                & !pdf.is_nan()
+                & !weight.is_nan()
+                & (x.abs() < f32::INFINITY)
+                & (y.abs() < f32::INFINITY)
+                & (z.abs() < f32::INFINITY)
                 & !u1[i].is_nan()
                 & !u2[i].is_nan();
-            let (p1, h) = if ok { (p1, h) } else { (0.0, 0.0) };
-            xs[i] = x0.x + e.x * p1 + (b1.x * cos_phi + b2.x * sin_phi) * h;
-            ys[i] = x0.y + e.y * p1 + (b1.y * cos_phi + b2.y * sin_phi) * h;
-            zs[i] = x0.z + e.z * p1 + (b1.z * cos_phi + b2.z * sin_phi) * h;
-            pdfs[i] = if ok { pdf } else { 0.0 };
-            weights[i] = if ok { weight } else { 0.0 };
+            xs[i] = if ok { x } else { x0.x };
+            ys[i] = if ok { y } else { x0.y };
+            zs[i] = if ok { z } else { x0.z };
+            // Saturated at the largest number, as the scalar sampler's.
+            pdfs[i] = if ok { below_max(pdf) } else { 0.0 };
+            weights[i] = if ok { below_max(weight) } else { 0.0 };
             count += usize::from(ok);
         }
         Ok(count)
@@ -185,6 +200,13 @@ impl Omnee<f32, HenyeyGreenstein<f32>> {
 pub(super) fn clamp_unit(u: f32) -> f32 {
     let u = if u >= 0.0 { u } else { 0.0 };
     if u <= 1.0 { u } else { 1.0 }
+}
+
+/// `x` saturated at `f32::MAX` (∞ to the largest number) for `x` not NaN,
+/// in the comparison form that SSE2 does in one `minps`.
+#[inline(always)]
+fn below_max(x: f32) -> f32 {
+    if x < f32::MAX { x } else { f32::MAX }
 }
 
 /// `1/√p` for `p ≥ 0`: the bit-level first guess `0x5f375a86 − bits(p)/2`
@@ -287,6 +309,7 @@ fn atan2_sqrt(a: f32, b: f32, q: f32) -> f32 {
 mod tests {
     extern crate std;
     use super::*;
+    use crate::Vector;
     use crate::sampling::{Connection, Technique};
     use glam::Vec3;
 
@@ -333,7 +356,16 @@ mod tests {
 
     #[test]
     fn the_batch_matches_the_scalar_sampler() {
-        let c = Connection::new(Vec3::new(0.3, -0.2, 1.1), Vec3::new(-0.1, 0.4, 0.2), 2.8).unwrap();
+        // At ordinary scales and far outside them (2^±100: 1e±30), where
+        // the triangle is solved in the connection's unit.
+        for scale in [0, -40, 40, -100, 100] {
+            batch_matches_scalar_at(scale);
+        }
+    }
+
+    fn batch_matches_scalar_at(scale: i32) {
+        let (x0, x2) = (Vec3::new(0.3, -0.2, 1.1), Vec3::new(-0.1, 0.4, 0.2));
+        let c = Connection::new(x0.scale_pow2(scale), x2.scale_pow2(scale), 2.8).unwrap();
         let n = 4096;
         let mut state = 12345u64;
         let mut next = || {
@@ -384,17 +416,29 @@ mod tests {
                 match omnee.sample(*u) {
                     Some(s) => {
                         expected += 1;
-                        let size = (s.x1 - c.axis.x0).length() + c.axis.x0.length() + c.axis.s;
-                        let d = (Vec3::new(x[i], y[i], z[i]) - s.x1).length() / size;
+                        let size =
+                            Vector::length(s.x1 - c.axis.x0) + Vector::length(c.axis.x0) + c.axis.s;
+                        let d = Vector::length(Vec3::new(x[i], y[i], z[i]) - s.x1) / size;
                         dx = dx.max(d as f64);
-                        dp = dp.max((pdf[i] as f64 / s.pdf as f64 - 1.0).abs());
+                        // Saturated densities (f32 at 1e-30: about 1e90)
+                        // saturate alike.
+                        if s.pdf == f32::MAX {
+                            assert_eq!(pdf[i], f32::MAX, "g {g}, 2^{scale}: {u:?}");
+                        } else if s.pdf < f32::MIN_POSITIVE {
+                            // Subnormal (2^40: s⁻³ ≈ 1e-36 times a small
+                            // density): a few of their ulps, 2⁻¹⁴⁹ each.
+                            let ulp = f32::from_bits(1);
+                            assert!((pdf[i] - s.pdf).abs() <= 16.0 * ulp, "2^{scale}: {u:?}");
+                        } else {
+                            dp = dp.max((pdf[i] as f64 / s.pdf as f64 - 1.0).abs());
+                        }
                         dw = dw.max((weight[i] as f64 / s.weight as f64 - 1.0).abs());
                     }
                     None => assert!(pdf[i] == 0.0 && weight[i] == 0.0, "g {g}: {u:?}"),
                 }
             }
-            std::println!("g {g}: x1 {dx:.1e}, pdf {dp:.1e}, weight {dw:.1e}");
-            assert_eq!(count, expected, "g {g}");
+            std::println!("2^{scale}, g {g}: x1 {dx:.1e}, pdf {dp:.1e}, weight {dw:.1e}");
+            assert_eq!(count, expected, "g {g}, 2^{scale}");
             // Measured ≤ 2.8e-7, 2.1e-6 and 5.4e-7.
             assert!(
                 dx < 1e-6 && dp < 5e-6 && dw < 1e-6,

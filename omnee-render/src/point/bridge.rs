@@ -98,11 +98,12 @@ impl<F: Real> BridgeSampler<'_, F> {
         }
     }
 
-    /// The draw's estimate `σs^k e^{−σt D} · weight / P(k)` (0 without a
-    /// path).
+    /// The draw's estimate `σs^k e^{−σt D} · weight / P(k)` in f64 (0
+    /// without a path): the core's [`Bridge::estimate_f64`], right at scales
+    /// where the estimate leaves `F`'s range.
     pub fn estimate(&self, draw: &BridgeDraw<F>) -> f64 {
         draw.sample.map_or(0.0, |s| {
-            self.bridge.estimate(&s, &self.medium).to_f64() / draw.probability.to_f64()
+            self.bridge.estimate_f64(&s, &self.medium) / draw.probability.to_f64()
         })
     }
 }

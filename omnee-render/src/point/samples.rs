@@ -28,9 +28,11 @@ pub struct Row {
     /// The vertex `x1`.
     pub x1: [f64; 3],
     /// Its density in the volume measure (a bridge's in the product of the
-    /// `k` volume measures).
+    /// `k` volume measures), in the problem's precision: saturated at its
+    /// largest number where the density is beyond it ([`Samples::saturated`];
+    /// f32 at s = 1e-30: `∝ 1/s³`, about 1e90).
     pub pdf: f64,
-    /// The technique's weight `k/pdf`.
+    /// The technique's weight `k/pdf`, saturated as the density is.
     pub weight: f64,
     /// Its contribution `f_c · weight` (a bridge's divided by `P(k)`).
     pub estimate: f64,
@@ -46,6 +48,21 @@ pub struct Samples {
     pub rows: Vec<Row>,
     /// With a lobe: the probability of the lobe technique.
     pub lobe_probability: Option<f64>,
+}
+
+impl Samples {
+    /// How many rows have a density or weight saturated at the largest number
+    /// of the problem's precision (their estimates are right: formed in f64).
+    pub fn saturated(&self) -> usize {
+        let max = match self.prepared.problem.precision {
+            Precision::F32 => f64::from(f32::MAX),
+            Precision::F64 => f64::MAX,
+        };
+        self.rows
+            .iter()
+            .filter(|r| r.pdf >= max || r.weight >= max)
+            .count()
+    }
 }
 
 /// The most draws [`samples`] lists, `2²⁴`: every row is kept in memory
