@@ -747,11 +747,11 @@ omnee_status omnee_bridge_estimate_f64(const struct omnee_problem_f64 *problem,
 // bounded by `budget` evaluations of the integrand
 // (`OMNEE_REFERENCE_BUDGET` is the default, tens of milliseconds at most):
 // a quadrature that spends it returns `OMNEE_ERROR_NOT_CONVERGED` (field
-// "reference") and `*reference` = 0. The integrand's positive and negative
-// parts cancel more with every vertex and in thinner media: where fewer
-// than ten digits would be left (from k = 10 at σt s = 0.1, 12 at 1.1, 15
-// at 10; docs/math.md §14.6) it returns `OMNEE_ERROR_OUT_OF_RANGE` (field
-// "k") and `*reference` = 0, never a wrong value.
+// "reference") and `*reference` = 0. Of its two integrals (docs/math.md
+// §14.6) it takes the one whose signs cancel little; where both would leave
+// fewer than ten digits (dense media: none for σt s up to 20, k = 17 … 28
+// at 30) it returns `OMNEE_ERROR_OUT_OF_RANGE` (field "k") and
+// `*reference` = 0, never a wrong value.
 omnee_status omnee_bridge_reference_f32(const struct omnee_problem_f32 *problem,
                                         size_t k,
                                         size_t budget,

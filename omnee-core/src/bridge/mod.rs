@@ -192,7 +192,7 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
         Some(BridgeSample {
             k,
             length,
-            pdf: self.from_unit(ln_pdf, 3 * k),
+            pdf: self.in_metres(ln_pdf, 3 * k),
             phase_ratio: chain.ratio,
             weight: saturate(chain.ratio * length_weight(k, axis.s, length)),
         })
@@ -289,7 +289,7 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
     /// its value in the connection's unit, saturating (0 below the range,
     /// `F::MAX` above it).
     #[inline]
-    fn from_unit(&self, ln_u: F, n: usize) -> F {
+    fn in_metres(&self, ln_u: F, n: usize) -> F {
         Product::exp(ln_u)
             .times(Product::pow2(-(n as i32) * self.axis.unit.exponent))
             .value()
@@ -319,7 +319,7 @@ impl<F: Real, P: PhaseFunction<F>> Bridge<F, P> {
         let ln_pdf = ln_factorial::<F>(k) + F::from_f64(3.0) * self.axis.s_unit.ln() + ln_q
             - F::TWO * ln_d
             - F::from_f64((k + 1) as f64) * length.ln();
-        self.from_unit(ln_pdf, 3 * k)
+        self.in_metres(ln_pdf, 3 * k)
     }
 
     /// The kernel `Π_i p(θ_i) / Π_j d_j²` at the path `x0, vertices, x2`
