@@ -215,6 +215,9 @@ pub fn integer(
     }
 }
 
+/// The plane point `p` in 3-D, `(x, y, 0)`. Not inlined (55 B less,
+/// measured: four callers).
+#[inline(never)]
 fn plane_point(p: [f64; 2]) -> Vec3 {
     Vec3::new(p[0], p[1], 0.0)
 }
