@@ -7,13 +7,10 @@ WASM_DIR="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 ROOT="$(cd "$WASM_DIR/.." && pwd)"
 PKG="$WASM_DIR/web/pkg"
 E2E="$WASM_DIR/e2e"
-# The demo's goal: 64 KiB (65,536 B) after wasm-opt (README.md: where the
-# bytes went, and the levers measured). The scale-safe core took the module
-# over it; until the last kilobyte is found again, ci.sh reports the excess
-# over the goal on every run and fails above the gate of 65 KiB, so that
-# the module cannot grow further unnoticed.
+# The demo's limit: 64 KiB (65,536 B) after wasm-opt (README.md: where the
+# bytes went, and the levers measured). ci.sh fails above it (after the
+# tests, so that a too-large module still gets tested).
 MAX_WASM_BYTES=65536
-GATE_WASM_BYTES=66560
 
 # The Wasm features the module may use, for wasm-opt (the target-features
 # section is stripped before wasm-bindgen, below): those of Rust's
@@ -161,10 +158,7 @@ build_wasm() {
     log "wasm size: raw $(stat -c %s "$raw") B, after wasm-bindgen $before B, after wasm-opt $WASM_BYTES B ($WASM_GZIP_BYTES B gzip), limit $MAX_WASM_BYTES B: $margin"
     WASM_SIZE_OK=1
     if [ "$WASM_BYTES" -gt "$MAX_WASM_BYTES" ]; then
-        echo "omnee-wasm: optimised .wasm is $WASM_BYTES B, over the demo's goal of $MAX_WASM_BYTES B" >&2
-    fi
-    if [ "$WASM_BYTES" -gt "$GATE_WASM_BYTES" ]; then
-        echo "omnee-wasm: optimised .wasm is $WASM_BYTES B > $GATE_WASM_BYTES B (the gate)" >&2
+        echo "omnee-wasm: optimised .wasm is $WASM_BYTES B > $MAX_WASM_BYTES B (the demo's limit)" >&2
         WASM_SIZE_OK=0
     fi
 }

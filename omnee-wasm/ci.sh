@@ -29,7 +29,7 @@ node "$E2E/e2e.mjs"
 
 # The size limit is checked last so that a too-large module still gets tested.
 if [ "$WASM_SIZE_OK" != 1 ]; then
-    echo "omnee-wasm ci: FAILED: optimised wasm $WASM_BYTES B > $GATE_WASM_BYTES B (tests passed; $((SECONDS - start)) s)"
+    echo "omnee-wasm ci: FAILED: optimised wasm $WASM_BYTES B > $MAX_WASM_BYTES B (tests passed; $((SECONDS - start)) s)"
     exit 1
 fi
-echo "omnee-wasm ci: OK (optimised wasm $WASM_BYTES B <= gate $GATE_WASM_BYTES B, goal $MAX_WASM_BYTES B; $WASM_GZIP_BYTES B gzip; $((SECONDS - start)) s)"
+echo "omnee-wasm ci: OK (optimised wasm $WASM_BYTES B <= $MAX_WASM_BYTES B; $WASM_GZIP_BYTES B gzip; $((SECONDS - start)) s)"

@@ -168,17 +168,15 @@ mod technique {
         /// The demo's technique of this name (an unknown string from
         /// JavaScript is an error listing the allowed names).
         pub fn technique(self) -> Result<demo::Technique, omnee_core::Error> {
-            match self {
-                Technique::Omnee => Ok(demo::Technique::Omnee),
-                Technique::Equiangular => Ok(demo::Technique::Equiangular),
-                Technique::Mis => Ok(demo::Technique::Mis),
-                Technique::Lobe => Ok(demo::Technique::Lobe),
-                Technique::LobeMis => Ok(demo::Technique::LobeMis),
-                _ => Err(omnee_core::Error::Syntax {
+            // The enum's variants in the order of `demo::TECHNIQUES`, then
+            // wasm-bindgen's variant for any other string.
+            demo::TECHNIQUES
+                .get(self as usize)
+                .copied()
+                .ok_or(omnee_core::Error::Syntax {
                     field: "technique",
                     reason: "unknown name; allowed: omnee, equiangular, mis, lobe, lobe-mis",
-                }),
-            }
+                })
         }
     }
 }

@@ -379,6 +379,28 @@ fn bad_input_is_an_error_naming_the_field() {
     assert!(msg.contains("g = 1.5") && msg.contains("(-1, 1)"), "{msg}");
 }
 
+/// The bindings' string enum maps each name to the demo's technique of that
+/// name (by position: its variants in the order of `TECHNIQUES`), and
+/// wasm-bindgen's variant for any other string to the error listing them.
+#[test]
+fn technique_names_map_to_the_demos_techniques() {
+    use omnee_wasm::Technique as Name;
+    let names = [
+        (Name::Omnee, "omnee"),
+        (Name::Equiangular, "equiangular"),
+        (Name::Mis, "mis"),
+        (Name::Lobe, "lobe"),
+        (Name::LobeMis, "lobe-mis"),
+    ];
+    for (name, text) in names {
+        assert_eq!(name.technique().unwrap().name(), text);
+    }
+    assert_eq!(
+        Name::__Invalid.technique().unwrap_err().to_string(),
+        "syntax error in technique: unknown name; allowed: omnee, equiangular, mis, lobe, lobe-mis"
+    );
+}
+
 #[test]
 fn numbers_are_read_as_f64_from_str_reads_them() {
     for s in NUMBERS {
