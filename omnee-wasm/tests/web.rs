@@ -14,6 +14,11 @@ use wasm_bindgen_test::*;
 wasm_bindgen_test_configure!(run_in_browser);
 
 fn demo(spec: &str, x0: [f64; 2], x2: [f64; 2], m: (f64, f64, f64)) -> Demo {
+    tilted(spec, x0, x2, m, None)
+}
+
+/// [`demo`] with the lobe at `x0` tilted by `tilt`, if given.
+fn tilted(spec: &str, x0: [f64; 2], x2: [f64; 2], m: (f64, f64, f64), tilt: Option<f64>) -> Demo {
     let d = Demo::new(
         spec,
         x0[0],
@@ -24,7 +29,7 @@ fn demo(spec: &str, x0: [f64; 2], x2: [f64; 2], m: (f64, f64, f64)) -> Demo {
         m.1,
         m.2,
         SEED.into(),
-        None,
+        tilt,
     );
     d.unwrap_or_else(|_| panic!("Demo::new({spec}) failed"))
 }
@@ -56,20 +61,7 @@ fn browser_numbers_match_the_native_fixture() {
     a.run(RUN.into()).expect("run a");
     let mut b = demo(B_SPEC, B_X0, B_X2, B_MEDIUM);
     b.run(RUN.into()).expect("run b");
-    let (x0, x2, m) = (C_X0, C_X2, C_MEDIUM);
-    let mut c = Demo::new(
-        C_SPEC,
-        x0[0],
-        x0[1],
-        x2[0],
-        x2[1],
-        m.0,
-        m.1,
-        m.2,
-        SEED.into(),
-        Some(C_TILT),
-    )
-    .expect("case c");
+    let mut c = tilted(C_SPEC, C_X0, C_X2, C_MEDIUM, Some(C_TILT));
     c.run(RUN.into()).expect("run c");
     let cloud = |t| numbers(&a.cloud(t, CLOUD.into(), 9.0).expect("cloud"));
     let (spec, n, bins, hi) = HIST;

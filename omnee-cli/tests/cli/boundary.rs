@@ -71,6 +71,31 @@ fn agrees(v: &serde_json::Value, z_max: f64, what: &str) {
     );
 }
 
+/// `omnee estimate --json` of the problem scaled to `s`: `x0` at the
+/// origin, `x2` as given, σs = 0.5/s and σt = 0.55/s (the optical thickness
+/// 0.55 at every scale), in `precision` with 40000 draws and the reference,
+/// and the options of `rest`.
+fn estimate_scaled(x2: &str, s: f64, precision: &str, rest: &[&str]) -> serde_json::Value {
+    let (sigma_s, sigma_t) = (format!("{:e}", 0.5 / s), format!("{:e}", 0.55 / s));
+    let mut a = vec![
+        "--x0",
+        "0,0,0",
+        "--x2",
+        x2,
+        "--sigma-s",
+        &sigma_s,
+        "--sigma-t",
+        &sigma_t,
+        "--precision",
+        precision,
+        "--samples",
+        "40000",
+        "--reference",
+    ];
+    a.extend(rest);
+    estimate(&a)
+}
+
 /// End points `s` apart along a diagonal, σs = 0.5/s and σt = 0.55/s (the
 /// optical thickness 0.55 at every scale): the transfer is `λ⁻²` times the
 /// unit problem's, which the estimate and its reference must both give.
@@ -108,28 +133,14 @@ fn extreme_scales_estimate_the_scaled_reference() {
     ] {
         let c = s / 3f64.sqrt();
         let x2 = format!("{c:e},{c:e},{:e}", -c);
-        let (sigma_s, sigma_t) = (format!("{:e}", 0.5 / s), format!("{:e}", 0.55 / s));
         for technique in ["omnee", "mis"] {
             let what = format!("{precision} s = {s:e} {technique}");
-            let v = estimate(&[
-                "--x0",
-                "0,0,0",
-                "--x2",
+            let v = estimate_scaled(
                 &x2,
-                "--sigma-s",
-                &sigma_s,
-                "--sigma-t",
-                &sigma_t,
-                "--phase",
-                "hg:0.5",
-                "--technique",
-                technique,
-                "--precision",
+                s,
                 precision,
-                "--samples",
-                "40000",
-                "--reference",
-            ]);
+                &["--phase", "hg:0.5", "--technique", technique],
+            );
             agrees(&v, 5.5, &what);
             // The reference of the scaled problem is the unit one's over s².
             let scaled = v["reference"].as_f64().unwrap() * s * s;
@@ -177,27 +188,13 @@ fn bridges_at_extreme_scales_estimate_the_scaled_closed_form() {
     // 12 comparisons (2 vertex numbers × (the unit problem and 5 scales)),
     // each |z| < 5.5: the family fails less than once in 10⁶ runs.
     let run_at = |precision: &str, s: f64, vertices: &str| {
-        let (sigma_s, sigma_t) = (format!("{:e}", 0.5 / s), format!("{:e}", 0.55 / s));
         let x2 = format!("0,0,{s:e}");
-        let v = estimate(&[
-            "--x0",
-            "0,0,0",
-            "--x2",
+        let v = estimate_scaled(
             &x2,
-            "--sigma-s",
-            &sigma_s,
-            "--sigma-t",
-            &sigma_t,
-            "--phase",
-            "iso",
-            "--vertices",
-            vertices,
-            "--precision",
+            s,
             precision,
-            "--samples",
-            "40000",
-            "--reference",
-        ]);
+            &["--phase", "iso", "--vertices", vertices],
+        );
         agrees(
             &v,
             5.5,

@@ -528,8 +528,9 @@ fn length_weight<F: Real>(k: usize, s: F, length: F) -> F {
     value.value()
 }
 
-/// Whether `x` is a normal number (or 0 exactly is not): a partial product
-/// that stays in `[F::MIN_POSITIVE, F::MAX]` lost no digits to the range.
+/// Whether `x` is a finite normal number, `F::MIN_POSITIVE ≤ x ≤ F::MAX`
+/// (0, subnormals, ∞ and NaN are not): a partial product that stays there
+/// lost no digits to the range.
 #[inline]
 fn normal_range<F: Real>(x: F) -> bool {
     x >= F::MIN_POSITIVE && x.is_finite()
