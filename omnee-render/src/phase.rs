@@ -214,6 +214,16 @@ impl PhaseSpec {
     /// bin and normalised by the core, [`Tabulated`]). Checked as a
     /// `table:` file is; its spec text is `table`.
     pub fn table(theta: Vec<f64>, values: Vec<f64>) -> Result<Self> {
+        // The last edge is set to π in each precision when the table is
+        // built (a file's ends at 180°); a caller's array must end there.
+        if let Some(&last) = theta.last() {
+            let pi = std::f64::consts::PI;
+            if !((last - pi).abs() <= 4.0 * f64::EPSILON * pi) {
+                return Err(RenderError::Input(format!(
+                    "phase table: theta: the last edge is {last}; allowed: pi (the bins cover [0, pi])"
+                )));
+            }
+        }
         let spec = Self {
             text: "table".to_string(),
             table: Some((theta, values)),
