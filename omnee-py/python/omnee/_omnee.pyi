@@ -64,7 +64,7 @@ class Phase:
 
     def __new__(cls, spec: str) -> Phase: ...
     @staticmethod
-    def table(theta: Sequence[float], values: Sequence[float]) -> Phase:
+    def table(theta: _ArrayLike, values: _ArrayLike) -> Phase:
         """A measured phase function from arrays (as Mitsuba's ``tabphase``
         holds one): ``theta``, the ``n + 1`` bin edges in radians, strictly
         increasing from 0 to π, and ``values``, the ``n`` bin values (≥ 0, not

@@ -25,6 +25,8 @@ in the JIT variants (``llvm_*``, ``cuda_*``), unpolarized.
 
 from __future__ import annotations
 
+from typing import Any, Optional
+
 import drjit as dr
 import mitsuba as mi
 
@@ -36,7 +38,7 @@ NAME = "omnee_volpath"
 """The integrator's name in scene files and dictionaries."""
 
 
-def _check_variant(variant) -> None:
+def _check_variant(variant: Optional[str]) -> None:
     if variant is None:
         raise RuntimeError(
             "omnee_volpath: no Mitsuba variant is set; call mi.set_variant('llvm_ad_rgb') "
@@ -75,7 +77,7 @@ def _register_on_import() -> None:
             return
         message = str(e)
 
-        def refuse(props):
+        def refuse(props: Any) -> Any:
             raise RuntimeError(message)
 
         mi.register_integrator(NAME, refuse)

@@ -9,6 +9,8 @@ results back into full-width Dr.Jit arrays (zero on the other lanes).
 
 from __future__ import annotations
 
+from typing import Any, List, Sequence, Tuple
+
 import drjit as dr
 import mitsuba as mi
 import numpy as np
@@ -16,12 +18,12 @@ import numpy as np
 import omnee
 
 
-def lanes(mask):
+def lanes(mask: Any) -> Any:
     """The indices of the lanes where ``mask`` is set (``mi.UInt32``)."""
     return dr.compress(mi.Bool(mask))
 
 
-def rows(index, *arrays, dtype=np.float32):
+def rows(index: Any, *arrays: Any, dtype: Any = np.float32) -> List[np.ndarray]:
     """The lanes ``index`` of Dr.Jit arrays as numpy rows, gathered in one
     kernel: ``(k, 3)`` for a 3-vector, ``(k,)`` for a scalar."""
     gathered = [dr.gather(type(x), x, index) for x in arrays]
@@ -33,35 +35,35 @@ def rows(index, *arrays, dtype=np.float32):
     return out
 
 
-def _put(width, index, values, kind):
+def _put(width: int, index: Any, values: np.ndarray, kind: Any) -> Any:
     out = dr.zeros(kind, width)
     dr.scatter(out, kind(values), index)
     return out
 
 
-def floats(width, index, values):
+def floats(width: int, index: Any, values: Any) -> Any:
     """``values`` (``(k,)``) at lanes ``index`` of a zero ``mi.Float`` of
     ``width``."""
     return _put(width, index, np.ascontiguousarray(values, dtype=np.float32), mi.Float)
 
 
-def points(width, index, values):
+def points(width: int, index: Any, values: Any) -> Any:
     """``values`` (``(k, 3)``) at lanes ``index`` of a zero ``mi.Point3f``."""
     return _put(width, index, np.ascontiguousarray(np.asarray(values, dtype=np.float32).T), mi.Point3f)
 
 
-def mask(width, index, values):
+def mask(width: int, index: Any, values: Any) -> Any:
     """``values`` (bool ``(k,)``) at lanes ``index`` of a false ``mi.Bool``."""
     return _put(width, index, np.ascontiguousarray(values, dtype=bool), mi.Bool)
 
 
-def connectable(x0, x2):
+def connectable(x0: Any, x2: Any) -> Any:
     """Lanes whose end points the core accepts: finite and distinct (it
     refuses ``x0 == x2``)."""
     return dr.all(dr.isfinite(x0)) & dr.all(dr.isfinite(x2)) & dr.any(x0 != x2)
 
 
-def omnee_draw(groups, group, x0, x2, u, active):
+def omnee_draw(groups: Sequence[Any], group: Any, x0: Any, x2: Any, u: Any, active: Any) -> Tuple[Any, Any, Any]:
     """OMNEE's vertex ``x1`` for every active lane, drawn by the core's
     batch over connections (float32) with its group's phase function:
     ``(x1, pdf, valid)``, the vertex and its volume density."""
@@ -82,7 +84,7 @@ def omnee_draw(groups, group, x0, x2, u, active):
     return x1, pdf, valid
 
 
-def omnee_pdf(groups, group, x0, x2, x1, active):
+def omnee_pdf(groups: Sequence[Any], group: Any, x0: Any, x2: Any, x1: Any, active: Any) -> Any:
     """The density with which OMNEE at ``x2`` (with its group's phase
     function) draws ``x1`` for the light point ``x0``; 0 on other lanes."""
     width = dr.width(active)
@@ -97,7 +99,7 @@ def omnee_pdf(groups, group, x0, x2, x1, active):
     return pdf
 
 
-def segment_ok(x0, origin, direction, t_min, t_max):
+def segment_ok(x0: Any, origin: Any, direction: Any, t_min: Any, t_max: Any) -> Any:
     """Lanes whose segments the core accepts: finite, ``0 ≤ t_min < t_max``,
     and ``x0`` not on the segment itself (off the line by more than 10⁻⁵
     of its distance, far beyond rounding, or past either end)."""
@@ -110,7 +112,7 @@ def segment_ok(x0, origin, direction, t_min, t_max):
             & (off | (foot < t_min) | (foot > t_max)))
 
 
-def equiangular_draw(x0, origin, direction, t_max, u, active):
+def equiangular_draw(x0: Any, origin: Any, direction: Any, t_max: Any, u: Any, active: Any) -> Tuple[Any, Any, Any]:
     """The core's equiangular distance along each active lane's ray
     ``origin + t direction``, ``t ∈ [0, t_max]`` (∞ allowed), towards ``x0``:
     ``(t, pdf, valid)``, the distance and its density per metre."""
@@ -125,7 +127,7 @@ def equiangular_draw(x0, origin, direction, t_max, u, active):
     return floats(width, index, s.t), floats(width, index, s.pdf), mask(width, index, s.valid)
 
 
-def equiangular_pdf(x0, origin, direction, t_min, t_max, t, active):
+def equiangular_pdf(x0: Any, origin: Any, direction: Any, t_min: Any, t_max: Any, t: Any, active: Any) -> Any:
     """The density per metre of the equiangular distance ``t`` on the
     segments ``[t_min, t_max]`` of the rays, towards ``x0``; 0 elsewhere."""
     width = dr.width(active)

@@ -32,6 +32,10 @@ from ._scene import SceneInfo, analyse
 # A wavefront is compacted when fewer than this fraction of its lanes live.
 _COMPACT = 0.85
 
+# What BSDFs, emitters and spawned rays read of a surface interaction (no
+# derivatives of the normal or of the UVs: no ray differentials here).
+_SURFACE_FLAGS = mi.RayFlags.Minimal | mi.RayFlags.UV | mi.RayFlags.dPdUV | mi.RayFlags.ShadingFrame
+
 
 def index_spectrum(spec: Any, channel: Any) -> Any:
     """Channel ``channel`` of an RGB spectrum (the first otherwise), as
@@ -153,6 +157,29 @@ class Paths(Lanes):
         "valid", "specular", "channel", "needs_intersection", "seg_end",
         "last_p", "last_n", "last_pdf",
     )
+    lane: Any
+    """The camera sample (lane of the wavefront) each path belongs to."""
+    ray: Any
+    throughput: Any
+    result: Any
+    """The radiance the path has gathered so far."""
+    eta: Any
+    depth: Any
+    medium: Any
+    active: Any
+    valid: Any
+    specular: Any
+    """volpath's ``specular_chain``: an emitter hit counts in full."""
+    channel: Any
+    """The hero channel of the free flight (RGB)."""
+    needs_intersection: Any
+    seg_end: Any
+    """The distance from the ray's origin to the next surface (in a medium)."""
+    last_p: Any
+    """The last scattering vertex and its surface normal (0 in a medium),"""
+    last_n: Any
+    last_pdf: Any
+    """and the density of the direction drawn there."""
 
 
 class Random:
@@ -209,7 +236,8 @@ class Strategies:
         the point ``target``, through null interfaces: ``(tr, tau, medium at
         the end)``."""
         ray = it.spawn_ray_to(target)
-        return _transport.walk(self.scene, self.random.next_1d(), ray, medium, channel, active)
+        return _transport.walk(self.scene, self.random.next_1d(), ray, medium, channel, active,
+                               length=dr.norm(target - ray.o))
 
     def light_edge(self, mei1: Any, medium1: Any, x0: _lights.LightPoint, channel: Any, active: Any) -> Any:
         """From a medium vertex ``x1`` to ``x0``: the emission, the scene's
@@ -294,8 +322,17 @@ class Strategies:
         t, pdf_t, valid = _bridge.equiangular_draw(x0.p, ray.o, ray.d, t_max, u, active)
         active &= valid & (pdf_t > 0.0)
         x1 = ray.o + t * ray.d
+        # No surface lies between the segment's start and x1: in a
+        # homogeneous medium the transmittance is exp(−σt t); elsewhere
+        # ratio tracking along the segment.
+        homogeneous = active & medium.is_homogeneous()
         along = mi.Ray3f(ray.o, ray.d, t, ray.time, ray.wavelengths)
-        tr01, tau01, _ = _transport.walk(self.scene, self.random.next_1d(), along, medium, channel, active)
+        tr01, tau01, _ = _transport.walk(self.scene, self.random.next_1d(), along, medium, channel,
+                                         active & ~homogeneous)
+        majorant = mi.Spectrum(medium.get_majorant(_transport.medium_interaction_at(ray.o, ray.wavelengths),
+                                                   homogeneous))
+        tr01[homogeneous] = dr.exp(-majorant * t)
+        tau01[homogeneous] = mean_channels(majorant) * t
         mei1 = _transport.medium_interaction(medium, x1, -ray.d, ray.wavelengths, ray.time, active)
         em, rho, rho_pdf, tr10 = self.light_edge(mei1, medium, x0, channel, active)
         # pdf(t) d10² is the equiangular normalisation c, free of the pole at x0.
@@ -472,14 +509,17 @@ def render_wavefront(integrator: Any, info: SceneInfo, scene: Any, sampler: Any,
             w = s.weights_split(q_a, q_b, q_once, leg.omnee)[0]
             p.result[nee] += throughput * mi.Spectrum(phase_val) * tr_nee * emitter_val * w
 
-            # OMNEE with this vertex as x2 (strategy c).
-            by_omnee = served & (depth + 1 < max_depth) & info.omnee
+            # OMNEE with this vertex as x2 (strategy c), with the phase
+            # function of its medium, or of the scene's first served one: x1
+            # may lie in any served medium.
+            sampling_group = dr.select(group1 < groups, group1, 0)
+            by_omnee = act_scatter & (depth + 1 < max_depth) & info.omnee
             if dr.any(by_omnee):
                 def phase_eval(w21: Any, m: Any, mei: Any = mei, phase: Any = phase, ctx: Any = phase_ctx) -> Any:
                     return phase.eval_pdf(ctx, mei, w21, m)
 
-                p.result += s.omnee_at(mei.p, mei, lambda _w: medium, phase_eval, group1, throughput,
-                                       channel, by_omnee)
+                p.result += s.omnee_at(mei.p, mei, lambda _w: medium, phase_eval, sampling_group,
+                                       throughput, channel, by_omnee)
 
             # Phase sampling: a new leg.
             if vertex is not None:
@@ -494,11 +534,11 @@ def render_wavefront(integrator: Any, info: SceneInfo, scene: Any, sampler: Any,
             p.last_n[act_scatter] = mi.Normal3f(0.0)
             p.last_pdf[act_scatter] = phase_pdf
             throughput[act_scatter] *= phase_weight
-            leg.restart(act_scatter, mei.p, wo, phase_pdf, by_omnee, group1)
+            leg.restart(act_scatter, mei.p, wo, phase_pdf, by_omnee, sampling_group)
 
         # --------------------------------------------------------------- surfaces
         active_surface |= escaped
-        si = scene.ray_intersect(ray, active_surface)
+        si = scene.ray_intersect(ray, _SURFACE_FLAGS, False, active_surface)
         if hide:
             skip = active_surface & si.is_valid() & (si.shape.emitter() != None) & (depth == 0)  # noqa: E711
             if dr.any(skip):
@@ -553,9 +593,12 @@ def render_wavefront(integrator: Any, info: SceneInfo, scene: Any, sampler: Any,
             exterior = si.target_medium(si.n)
             side = dr.select(si.is_medium_transition(),
                              dr.select(info.group_of(interior) < groups, interior, exterior), medium)
+            # The phase function of the medium on the surface's side (the
+            # interior's for a boundary), or of the scene's first served one.
             group2 = info.group_of(side)
+            group2 = dr.select(group2 < groups, group2, 0)
             # The surface is vertex depth + 1 of the path, x1 would be depth + 2.
-            by_omnee = active_surface & smooth & (group2 < groups) & (depth + 2 < max_depth) & info.omnee
+            by_omnee = active_surface & smooth & (depth + 2 < max_depth) & info.omnee
             if dr.any(by_omnee):
                 def bsdf_eval(w21: Any, m: Any, si: Any = si, bsdf: Any = bsdf) -> Any:
                     return bsdf.eval_pdf(bsdf_ctx, si, si.to_local(w21), m)
@@ -599,7 +642,7 @@ def render_wavefront(integrator: Any, info: SceneInfo, scene: Any, sampler: Any,
 def make_class() -> Any:
     """The integrator class for the current Mitsuba variant."""
 
-    class OmneeVolpathIntegrator(mi.SamplingIntegrator):  # type: ignore[misc, name-defined]
+    class OmneeVolpathIntegrator(mi.SamplingIntegrator):  # type: ignore[misc]
         """``omnee_volpath``: Mitsuba's ``volpath`` with OMNEE and equiangular
         sampling towards finite lights, combined by MIS (module docs)."""
 

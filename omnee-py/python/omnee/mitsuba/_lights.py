@@ -11,7 +11,7 @@ so MIS compares what is left.
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import drjit as dr
 import mitsuba as mi
@@ -20,31 +20,31 @@ import mitsuba as mi
 class LightPoint(NamedTuple):
     """A point ``x0`` on an emitter."""
 
-    p: object
+    p: Any
     """The position (``mi.Point3f``)."""
-    n: object
+    n: Any
     """The surface normal (zero for a delta position)."""
-    uv: object
+    uv: Any
     """The surface parameterisation (``mi.Point2f``)."""
-    emitter: object
+    emitter: Any
     """``mi.EmitterPtr``."""
-    delta: object
+    delta: Any
     """Whether ``x0`` is a delta position (``mi.Bool``)."""
-    pdf: object
+    pdf: Any
     """Its density under :func:`sample` (``mi.Float``): the emitter's
     probability times the area density on a surface emitter."""
 
 
-def _has(flags, flag) -> object:
+def _has(flags: Any, flag: Any) -> Any:
     return (mi.UInt32(flags) & mi.UInt32(int(flag))) != 0
 
 
-def is_delta(emitter) -> object:
+def is_delta(emitter: Any) -> Any:
     """Per lane: the emitter has a delta position."""
     return _has(emitter.flags(), mi.EmitterFlags.DeltaPosition)
 
 
-def is_finite(emitter) -> object:
+def is_finite(emitter: Any) -> Any:
     """Per lane: the emitter has a position to connect to (delta or a
     surface), and is no environment."""
     flags = emitter.flags()
@@ -52,7 +52,7 @@ def is_finite(emitter) -> object:
     return (emitter != None) & finite & ~_has(flags, mi.EmitterFlags.Infinite)  # noqa: E711
 
 
-def light_pmf(info, emitter, active) -> object:
+def light_pmf(info: Any, emitter: Any, active: Any) -> Any:
     """The probability with which :func:`sample` picks ``emitter`` (0 for
     emitters it never picks)."""
     total = sum(info.light_weights)
@@ -60,14 +60,14 @@ def light_pmf(info, emitter, active) -> object:
     return dr.select(active, emitter.sampling_weight() / total, 0.0)
 
 
-def nee_pmf(info, emitter, active) -> object:
+def nee_pmf(info: Any, emitter: Any, active: Any) -> Any:
     """The probability with which Mitsuba's next event estimation picks
     ``emitter`` (``Scene::pdf_emitter``: sampling weight over the sum)."""
     active = mi.Bool(active) & (emitter != None)  # noqa: E711
     return dr.select(active, emitter.sampling_weight() / info.all_weights, 0.0)
 
 
-def sample(info, u_emitter, u_position, time, active) -> LightPoint:
+def sample(info: Any, u_emitter: Any, u_position: Any, time: Any, active: Any) -> LightPoint:
     """``x0``: an emitter with probability proportional to its sampling
     weight among the finite ones, then its position (the emitter's own for
     a delta light; uniform in area on a surface emitter's shape, whose
@@ -90,7 +90,7 @@ def sample(info, u_emitter, u_position, time, active) -> LightPoint:
     return LightPoint(p, n, uv, emitter, delta, dr.select(ok, pdf, 0.0))
 
 
-def density(info, emitter, ps, active) -> object:
+def density(info: Any, emitter: Any, ps: Any, active: Any) -> Any:
     """The density of :func:`sample` at a position ``ps`` found otherwise
     (next event estimation's ``DirectionSample3f``, an emitter hit)."""
     active = mi.Bool(active) & is_finite(emitter)
@@ -103,18 +103,18 @@ def density(info, emitter, ps, active) -> object:
 class Emission(NamedTuple):
     """What ``x0`` sends towards ``x1``."""
 
-    value: object
+    value: Any
     """``Le |cos θ0|`` of a surface emitter, the intensity (with a spot's
     falloff) of a delta light: the emitted light without the ``1/d10²``
     (``mi.Spectrum``)."""
-    ds: object
+    ds: Any
     """The ``mi.DirectionSample3f`` from ``x1`` to ``x0``."""
-    g0: object
+    g0: Any
     """``|cos θ0|/d10²`` (surface) or ``1/d10²`` (delta): from ``x0``'s
     density per area to the solid angle at ``x1``, and the geometry factor."""
 
 
-def emission(x1, x0: LightPoint, active) -> Emission:
+def emission(x1: Any, x0: LightPoint, active: Any) -> Emission:
     """The light ``x0`` sends to the interaction ``x1`` (its ``p``, ``time``,
     ``wavelengths``)."""
     active = mi.Bool(active)

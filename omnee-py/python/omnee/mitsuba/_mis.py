@@ -25,6 +25,8 @@ same path quantities, so the weights ``w_s = q_s² / Σ q²`` sum to one.
 
 from __future__ import annotations
 
+from typing import Any, Iterable, Tuple
+
 import drjit as dr
 import mitsuba as mi
 
@@ -38,14 +40,14 @@ one strategy wherever it can make the path (``volpath``: a and b together,
 by the power heuristic), the power heuristic over the others elsewhere."""
 
 
-def weights(mode, q_a, q_b, q_c, q_d):
+def weights(mode: str, q_a: Any, q_b: Any, q_c: Any, q_d: Any) -> Tuple[Any, Any, Any, Any]:
     """The weights ``(w_a, w_b, w_c, w_d)`` of the four strategies for a
     path with densities ``q``: the power heuristic (``mode == "power"``), or
     all on the strategy ``mode`` names where its density is positive (the
     power heuristic among the others elsewhere)."""
     qs = (q_a, q_b, q_c, q_d)
 
-    def power(i, among):
+    def power(i: int, among: Iterable[int]) -> Any:
         return power_weight(qs[i], *[qs[j] for j in among if j != i])
 
     if mode == "power":
@@ -62,7 +64,7 @@ def weights(mode, q_a, q_b, q_c, q_d):
     )
 
 
-def power_weight(own, *others):
+def power_weight(own: Any, *others: Any) -> Any:
     """The power heuristic ``own² / (own² + Σ others²)``, computed with every
     density relative to the largest (0 where the result is not finite)."""
     own = dr.minimum(mi.Float(own), _LARGE)
@@ -79,6 +81,6 @@ def power_weight(own, *others):
     return dr.select(dr.isfinite(w) & (total > 0.0), w, 0.0)
 
 
-def free_flight(pdf_dir, m1, tau, t21):
+def free_flight(pdf_dir: Any, m1: Any, tau: Any, t21: Any) -> Any:
     """``q_ff = p_ω · m(x1) e^{−τ} / d21²``."""
     return pdf_dir * m1 * dr.exp(-tau) / dr.square(t21)

@@ -19,7 +19,7 @@ mapping (the table's bins) costs variance, never bias.
 from __future__ import annotations
 
 import math
-from typing import List, Optional, Tuple
+from typing import Any, List, Optional, Tuple
 
 import numpy as np
 
@@ -33,22 +33,22 @@ class Unsupported(Exception):
     """A phase function omnee has no kind for; the message says which."""
 
 
-def _children(obj) -> List[Tuple[str, object]]:
+def _children(obj: Any) -> List[Tuple[str, Any]]:
     """The named child objects (phase functions, volumes) Mitsuba's
     ``traverse`` reports for ``obj``."""
     import mitsuba as mi
 
-    found: List[Tuple[str, object]] = []
+    found: List[Tuple[str, Any]] = []
 
-    class Collect(mi.TraversalCallback):
-        def put(self, name, value, flags):  # noqa: ARG002 (Mitsuba's signature)
+    class Collect(mi.TraversalCallback):  # type: ignore[misc]
+        def put(self, name: str, value: Any, flags: Any) -> None:
             found.append((name, value))
 
     obj.traverse(Collect())
     return found
 
 
-def _scalar(values) -> float:
+def _scalar(values: Any) -> float:
     """The one number of a Mitsuba scalar parameter (a width-1 array)."""
     a = np.asarray(values, dtype=np.float64).ravel()
     if a.size != 1:
@@ -56,7 +56,7 @@ def _scalar(values) -> float:
     return float(a[0])
 
 
-def _constant_weight(volume) -> float:
+def _constant_weight(volume: Any) -> float:
     """The value of a constant ``blendphase`` weight volume."""
     if volume.class_name() != "ConstVolume":
         raise Unsupported(f"blendphase with a spatially varying weight ({volume.class_name()})")
@@ -69,7 +69,7 @@ def _constant_weight(volume) -> float:
     return _scalar(params[keys[0]])
 
 
-def _hg_g(phase) -> Optional[float]:
+def _hg_g(phase: Any) -> Optional[float]:
     """g of a Henyey–Greenstein lobe (``hg``, or ``isotropic`` as g = 0),
     else None."""
     name = phase.class_name()
@@ -101,7 +101,7 @@ def table_bins(values: np.ndarray, refine: int = TABLE_REFINE) -> Tuple[np.ndarr
     return theta, bins
 
 
-def omnee_phase(phase) -> omnee.Phase:
+def omnee_phase(phase: Any) -> omnee.Phase:
     """The omnee phase function of Mitsuba's ``phase``; raises
     :class:`Unsupported` naming the kind omnee lacks."""
     name = phase.class_name()

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, field
-from typing import List, Optional
+from typing import Any, List, Optional
 
 import drjit as dr
 import mitsuba as mi
@@ -27,7 +27,7 @@ from ._phase import Unsupported, omnee_phase
 class Group:
     """A medium whose vertices the once-more strategies serve."""
 
-    medium: object
+    medium: Any
     """The Mitsuba medium."""
     phase: omnee.Phase
     """Its phase function as omnee samples it."""
@@ -40,16 +40,16 @@ class SceneInfo:
     groups: List[Group] = field(default_factory=list)
     """Media served by OMNEE and equiangular sampling; a lane's group is its
     index here (``len(groups)``: none)."""
-    lights: List[object] = field(default_factory=list)
+    lights: List[Any] = field(default_factory=list)
     """The finite emitters (a position to connect to)."""
     light_weights: List[float] = field(default_factory=list)
     """Their sampling weights (Mitsuba's ``sampling_weight``)."""
     all_weights: float = 0.0
     """The sum of every emitter's sampling weight: Mitsuba's next event
     estimation picks emitter ``e`` with ``w_e / all_weights``."""
-    lights_ptr: Optional[object] = None
+    lights_ptr: Optional[Any] = None
     """``mi.EmitterPtr`` over ``lights``."""
-    light_distribution: Optional[object] = None
+    light_distribution: Optional[Any] = None
     """``mi.DiscreteDistribution`` over ``light_weights``."""
     surface_lights: bool = False
     """Whether any finite emitter is a surface (one a ray can hit)."""
@@ -67,7 +67,7 @@ class SceneInfo:
         """Whether any strategy beyond volpath's can fire."""
         return bool(self.groups) and bool(self.lights) and (self.omnee or self.equiangular)
 
-    def group_of(self, medium) -> object:
+    def group_of(self, medium: Any) -> Any:
         """The group index of each lane's medium (``mi.MediumPtr``), as
         ``mi.UInt32``; ``len(groups)`` where it has none."""
         none = len(self.groups)
@@ -77,12 +77,12 @@ class SceneInfo:
         return g
 
 
-def _media(scene) -> List[object]:
+def _media(scene: Any) -> List[Any]:
     """Every medium of the scene, once: shape interiors and exteriors, and
     the sensors' media."""
-    found: List[object] = []
+    found: List[Any] = []
 
-    def add(m) -> None:
+    def add(m: Any) -> None:
         if m is not None and not any(m is x for x in found):
             found.append(m)
 
@@ -94,7 +94,7 @@ def _media(scene) -> List[object]:
     return found
 
 
-def _is_finite(emitter) -> bool:
+def _is_finite(emitter: Any) -> bool:
     """A light with a position to connect to: a delta position (point, spot,
     projector) or a surface; not an environment or a direction."""
     flags = emitter.flags()
@@ -104,7 +104,7 @@ def _is_finite(emitter) -> bool:
     return finite and not mi.has_flag(flags, mi.EmitterFlags.Infinite)
 
 
-def _chromatic(medium) -> bool:
+def _chromatic(medium: Any) -> bool:
     """Whether the majorant of ``medium`` differs between channels, probed
     at the centre of the scene's unit cube with the variant's sample
     wavelengths (a grid's majorant is its maximum)."""
@@ -116,7 +116,7 @@ def _chromatic(medium) -> bool:
     return len(set(values)) > 1
 
 
-def analyse(scene, omnee: bool = True, equiangular: bool = True) -> SceneInfo:
+def analyse(scene: Any, omnee: bool = True, equiangular: bool = True) -> SceneInfo:
     """The :class:`SceneInfo` of ``scene`` for the strategies asked for;
     warns once per medium whose phase function omnee cannot represent (that
     medium keeps volpath's strategies)."""
@@ -137,12 +137,12 @@ def analyse(scene, omnee: bool = True, equiangular: bool = True) -> SceneInfo:
             continue
         info.groups.append(Group(medium, phase))
     emitters = scene.emitters()
-    info.all_weights = float(sum(e.sampling_weight() for e in emitters))
-    for e in emitters:
-        if _is_finite(e) and e.sampling_weight() > 0.0:
-            info.lights.append(e)
-            info.light_weights.append(float(e.sampling_weight()))
-            info.surface_lights |= mi.has_flag(e.flags(), mi.EmitterFlags.Surface)
+    info.all_weights = float(sum(emitter.sampling_weight() for emitter in emitters))
+    for emitter in emitters:
+        if _is_finite(emitter) and emitter.sampling_weight() > 0.0:
+            info.lights.append(emitter)
+            info.light_weights.append(float(emitter.sampling_weight()))
+            info.surface_lights |= mi.has_flag(emitter.flags(), mi.EmitterFlags.Surface)
     if info.lights:
         info.lights_ptr = mi.EmitterPtr(info.lights)
         info.light_distribution = mi.DiscreteDistribution(info.light_weights)

@@ -18,11 +18,13 @@ density for the same vertex (docs/mitsuba.md).
 
 from __future__ import annotations
 
+from typing import Any, Optional, Tuple
+
 import drjit as dr
 import mitsuba as mi
 
 
-def medium_interaction(medium, p, wi, wavelengths, time, active):
+def medium_interaction(medium: Any, p: Any, wi: Any, wavelengths: Any, time: Any, active: Any) -> Any:
     """A ``mi.MediumInteraction3f`` at ``p`` in ``medium`` (incoming
     direction ``wi`` pointing back towards the previous vertex), with the
     medium's coefficients at ``p``: ``sigma_s``, ``sigma_n``, ``sigma_t``."""
@@ -42,21 +44,32 @@ def medium_interaction(medium, p, wi, wavelengths, time, active):
     return mei
 
 
-def extinction_rate(medium, p, wavelengths, active):
-    """``m``, the proxy's extinction rate of ``medium`` (per metre): the mean
-    over channels of its majorant at ``p`` (σt in a homogeneous medium), 0
-    outside any medium."""
+def medium_interaction_at(p: Any, wavelengths: Any) -> Any:
+    """A bare ``mi.MediumInteraction3f`` at ``p``: what a medium's
+    ``get_majorant`` reads."""
     mei = dr.zeros(mi.MediumInteraction3f, dr.width(p))
     mei.p = mi.Point3f(p)
     mei.wavelengths = wavelengths
+    return mei
+
+
+def extinction_rate(medium: Any, p: Any, wavelengths: Any, active: Any) -> Any:
+    """``m``, the proxy's extinction rate of ``medium`` (per metre): the mean
+    over channels of its majorant at ``p`` (σt in a homogeneous medium), 0
+    outside any medium."""
     active = mi.Bool(active) & (medium != None)  # noqa: E711 (Dr.Jit pointer test)
-    majorant = medium.get_majorant(mei, active)
+    majorant = medium.get_majorant(medium_interaction_at(p, wavelengths), active)
     return dr.select(active, dr.mean(mi.UnpolarizedSpectrum(majorant), axis=0), 0.0)
 
 
-def walk(scene, u, ray, medium, channel, active):
+def walk(scene: Any, u: Any, ray: Any, medium: Any, channel: Any, active: Any,
+         length: Optional[Any] = None) -> Tuple[Any, Any, Any]:
     """Follows ``ray`` (unit direction) from its origin to ``ray.maxt`` on
-    the lanes of ``active``.
+    the lanes of ``active``; with ``length``, surfaces count up to
+    ``ray.maxt`` (a shadow ray stops short of the surface it aims at) and the
+    media up to ``length`` (the full distance to a point ``x1`` or ``x0``:
+    Mitsuba's ``spawn_ray_to`` shortens ``maxt`` by 10⁻³, which would bias
+    the transmittance by ``e^{10⁻³ σt d}``).
 
     Returns ``(tr, tau, medium)``: the transmittance estimate per channel
     (0 where a surface blocks the way, and on the other lanes), the proxy
@@ -74,25 +87,28 @@ def walk(scene, u, ray, medium, channel, active):
     if k == 0:
         return tr, tau, end
 
-    def take(x):
+    def take(x: Any) -> Any:
         return dr.gather(type(x), x, index)
 
     seed = take(mi.UInt32(mi.Float(u) * 4294967040.0))
+    full = take(mi.Float(ray.maxt if length is None else length) + dr.zeros(mi.Float, width))
     ray = mi.Ray3f(take(ray.o), take(ray.d), take(ray.maxt), take(ray.time), take(ray.wavelengths))
     channel = take(mi.UInt32(channel) + dr.zeros(mi.UInt32, width))
-    tr_k, tau_k, end_k = _walk(scene, mi.PCG32(k, mi.UInt64(seed)), ray, take(mi.MediumPtr(medium)), channel)
+    tr_k, tau_k, end_k = _walk(scene, mi.PCG32(k, mi.UInt64(seed)), ray, full,
+                               take(mi.MediumPtr(medium)), channel)
     dr.scatter(tr, tr_k, index)
     dr.scatter(tau, tau_k, index)
     dr.scatter(end, end_k, index)
     return tr, tau, end
 
 
-def _walk(scene, rng, ray, medium, channel):
+def _walk(scene: Any, rng: Any, ray: Any, length: Any, medium: Any, channel: Any) -> Tuple[Any, Any, Any]:
     """:func:`walk` on lanes that are all active, with the masked updates
     of volpath's shadow rays (no branches: one straight loop body)."""
     n = dr.width(ray.o)
     ray = mi.Ray3f(ray)
-    max_dist = mi.Float(ray.maxt)
+    cutoff = mi.Float(ray.maxt)
+    max_dist = mi.Float(length)
     state = (
         dr.full(mi.Bool, True, n),  # active
         ray,
@@ -105,13 +121,17 @@ def _walk(scene, rng, ray, medium, channel):
         rng,
     )
 
-    def body(active, ray, medium, total, tr, tau, needs, si, rng):
+    def body(active: Any, ray: Any, medium: Any, total: Any, tr: Any, tau: Any, needs: Any, si: Any,
+             rng: Any) -> Tuple[Any, ...]:
         remaining = max_dist - total
-        ray.maxt = remaining
+        ray.maxt = cutoff - total
         active &= remaining > 0.0
         needs &= active
-        # Position, normals and the shape: all a crossing needs.
-        si[needs] = scene.ray_intersect(ray, mi.RayFlags.Minimal, False, needs)
+        # Position, normals and the shape: all a crossing needs (nothing
+        # past the cutoff: no surface counts there).
+        query = needs & (ray.maxt > 0.0)
+        si[query] = scene.ray_intersect(ray, mi.RayFlags.Minimal, False, query)
+        si.t[needs & (~query | ~si.is_valid())] = dr.inf
         needs = mi.Bool(False)
 
         in_medium = active & (medium != None)  # noqa: E711
