@@ -48,13 +48,15 @@ run_check() {
   fi
 }
 
-# CPython $1 (e.g. 3.9): pyenv's, else one on PATH.
+# CPython $1 (e.g. 3.9): pyenv's, else one on PATH that runs (a pyenv
+# shim of a version not selected does not).
 find_python() {
   local python
-  for python in "${PYENV_ROOT:-$HOME/.pyenv}"/versions/"$1".*/bin/python"$1"; do
-    [ -x "$python" ] && { echo "$python"; return; }
+  for python in "${PYENV_ROOT:-$HOME/.pyenv}"/versions/"$1".*/bin/python"$1" \
+    "$(command -v "python$1" || true)"; do
+    [ -x "$python" ] && "$python" -c '' 2>/dev/null && { echo "$python"; return; }
   done
-  command -v "python$1" || true
+  true
 }
 
 # A venv of CPython $1 in $2; fails, naming the version, if it is missing.
