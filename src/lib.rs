@@ -11,3 +11,14 @@ pub use omnee_core::*;
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]
 pub struct ReadmeDoctests;
+
+/// The code blocks of the READMEs that omnee-core and omnee-render are
+/// packaged with, compiled and run as doctests too.
+#[cfg(doctest)]
+#[doc = include_str!("../omnee-core/README.md")]
+pub struct CoreReadmeDoctests;
+
+/// See [`CoreReadmeDoctests`].
+#[cfg(doctest)]
+#[doc = include_str!("../omnee-render/README.md")]
+pub struct RenderReadmeDoctests;

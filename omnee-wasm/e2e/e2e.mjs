@@ -4,16 +4,18 @@
 // fixture, measures the sampling throughput, tilts the light at x0 with the tilt slider and
 // checks the estimates against the precomputed 3-D reference, and saves a screenshot to
 // e2e/out/demo.png.
+// OMNEE_WEB_DIR serves another copy of the page instead (dist/check.sh: the static
+// folder that dist/build.sh makes).
 // Exits non-zero on the first failed check.
 import { spawn } from 'node:child_process';
 import { mkdirSync, readFileSync } from 'node:fs';
 import { createServer } from 'node:net';
-import { dirname, join } from 'node:path';
+import { dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
 
 const here = dirname(fileURLToPath(import.meta.url));
-const web = join(here, '..', 'web');
+const web = process.env.OMNEE_WEB_DIR ? resolve(process.env.OMNEE_WEB_DIR) : join(here, '..', 'web');
 const out = join(here, 'out');
 const MIN_RATE = 1e6; // samples per second the demo must reach
 
