@@ -162,8 +162,9 @@ enum omnee_status
   // A parameter is NaN, infinite or outside its range (the record names
   // it, its value and the allowed range).
   OMNEE_ERROR_OUT_OF_RANGE = -1,
-  // A vector parameter has a NaN or infinite component, or a result would
-  // not be finite.
+  // A vector parameter has a NaN or infinite component, finite values
+  // have a sum that is not finite (a table's values near the largest
+  // number), or a result would not be finite.
   OMNEE_ERROR_NOT_FINITE = -2,
   // Two points that must differ coincide (x0 == x2), or a direction is zero.
   OMNEE_ERROR_DEGENERATE = -3,
@@ -996,8 +997,13 @@ omnee_status omnee_phase_rayleigh_f64(struct omnee_phase_f64 *phase,
 // receives the n + 1 entries of the cumulative distribution.
 //
 // The phase function refers to the three arrays: they must outlive it (and
-// its copies) and stay unmodified. Lengths that disagree, misplaced edges or
-// overlapping arrays: `OMNEE_ERROR_TABLE`.
+// its copies) and stay unmodified. Lengths that disagree, misplaced edges,
+// values all 0 or overlapping arrays: `OMNEE_ERROR_TABLE`. A NaN or
+// infinite edge or value, or finite values whose sum weighted by their
+// bins' solid angles is not finite in double precision (values near
+// `DBL_MAX`): `OMNEE_ERROR_NOT_FINITE`, field "theta" or "values". A
+// negative value: `OMNEE_ERROR_OUT_OF_RANGE`, field "values", with that
+// value.
 //
 // # Safety
 // Each array pointer is NULL (allowed with length 0) or points to as many

@@ -34,7 +34,7 @@ pub(crate) fn uniforms<F: Real, const N: usize>(u: Option<[F; N]>) -> Result<[F;
     if u.iter().all(|x| x.is_finite()) {
         Ok(u)
     } else {
-        Err(Error::NotFinite { field: "u" }.into())
+        Err(Error::not_finite("u").into())
     }
 }
 
@@ -44,7 +44,7 @@ pub(crate) fn point<F: Real>(p: omnee_vec3<F>, field: &'static str) -> Result<F:
     if p.is_finite() {
         Ok(p.get())
     } else {
-        Err(Error::NotFinite { field }.into())
+        Err(Error::not_finite(field).into())
     }
 }
 
@@ -55,7 +55,7 @@ pub(crate) fn finite<F: Real>(x: F, field: &'static str) -> Result<F, Failure> {
     if x.is_finite() {
         Ok(x)
     } else {
-        Err(Error::NotFinite { field }.into())
+        Err(Error::not_finite(field).into())
     }
 }
 

@@ -149,7 +149,7 @@ fn estimate_of<F: Precision>(
         let problem = object(problem)?;
         let sample = required(sample, "sample")?;
         if !(sample.x1.is_finite() && sample.pdf.is_finite() && sample.weight.is_finite()) {
-            return Err(Error::NotFinite { field: "sample" }.into());
+            return Err(Error::not_finite("sample").into());
         }
         finite(problem.estimate(&sample.get()), "estimate").map(Some)
     })();
