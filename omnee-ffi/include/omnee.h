@@ -1222,6 +1222,11 @@ omnee_status omnee_problem_estimate_f64(const struct omnee_problem_f64 *problem,
 // angles to x2 − x0, where the receiver's horizon passes through the axis,
 // is the known case) before meeting its tolerance returns
 // `OMNEE_ERROR_NOT_CONVERGED` (field "reference") and `*reference` = 0.
+// The quadrature runs in the connection's unit (see SCALE above): at any
+// distance s, subnormal included, the problem scaled by a power of two λ
+// (σ over λ) has the reference over λ², rounded once; an I beyond
+// double's range (at s = 1e-320, σs = 0.5 and θmax = π it is about
+// 1e320) is `OMNEE_ERROR_NOT_FINITE` (field "reference"), one below it 0.
 omnee_status omnee_problem_reference_f32(const struct omnee_problem_f32 *problem,
                                          const struct omnee_phase_f64 *phase,
                                          double *reference,

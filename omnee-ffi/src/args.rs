@@ -48,14 +48,20 @@ pub(crate) fn point<F: Real>(p: omnee_vec3<F>, field: &'static str) -> Result<F:
     }
 }
 
-/// An output that must be finite (the core guarantees it; this keeps a NaN
-/// from ever crossing the boundary).
+/// An output that must be finite: one beyond the precision's range (a
+/// transfer that grows as 1/s² for a short connection) is
+/// `OMNEE_ERROR_NOT_FINITE` naming it, and no NaN ever crosses the
+/// boundary (the core gives none).
 #[inline]
 pub(crate) fn finite<F: Real>(x: F, field: &'static str) -> Result<F, Failure> {
     if x.is_finite() {
         Ok(x)
     } else {
-        Err(Error::not_finite(field).into())
+        Err(Error::NotFinite {
+            field,
+            reason: "is beyond the precision's range",
+        }
+        .into())
     }
 }
 
