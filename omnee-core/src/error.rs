@@ -68,7 +68,10 @@ pub enum Error {
 
 impl Error {
     /// [`Error::NotFinite`] for a parameter with a NaN or infinite
-    /// component: "`field` has a non-finite component".
+    /// component: "`field` has a non-finite component". Not inlined: an
+    /// error path, and in the browser demo's module its callers inline
+    /// 96 B more.
+    #[inline(never)]
     pub const fn not_finite(field: &'static str) -> Self {
         Error::NotFinite {
             field,
