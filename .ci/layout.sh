@@ -24,9 +24,16 @@ cli_lines=$(for f in $(git ls-files 'omnee-cli/src/*.rs'); do
 done | awk '{ s += $1 } END { print s }')
 [ "$cli_lines" -le 1500 ] || fail "omnee-cli has $cli_lines lines of non-test Rust (at most 1500)"
 
+# One way to do each thing: SplitMix64 (its increment and its finaliser's
+# multipliers) is written once, in the core's rng module, which every Rust
+# crate uses (the C programs, which cannot, bring their own).
+splitmix=$(git grep -n -i -E '0x(9e37_?79b9_?7f4a_?7c15|bf58_?476d_?1ce4_?e5b9|94d0_?49bb_?1331_?11eb)' -- \
+  '*.rs' ':!omnee-core/src/rng.rs' || true)
+[ -z "$splitmix" ] || fail "SplitMix64 written again (use omnee_core::rng): $splitmix"
+
 # Code and comments say what they do, not which tracker issue asked for it.
 refs=$(git grep -n -I -i -E '\b(issue|ticket) ?#?[0-9]+|\bissue[0-9]+' -- \
   '*.rs' '*.toml' '*.py' '*.c' '*.h' '*.js' '*.mjs' '*.sh' || true)
 [ -z "$refs" ] || fail "code refers to tracker issues: $refs"
 
-echo "layout: no crate depends on omnee-cli; no type name defined twice; omnee-cli $cli_lines lines of non-test Rust; no tracker numbers in code"
+echo "layout: no crate depends on omnee-cli; no type name defined twice; omnee-cli $cli_lines lines of non-test Rust; SplitMix64 written once; no tracker numbers in code"

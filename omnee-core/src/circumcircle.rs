@@ -170,15 +170,15 @@ impl<F: Real> Axis<F> {
     /// `F::MAX` (`NotFinite`, `"x2 - x0"`: it has no value in the precision).
     pub fn new(x0: F::Vec3, x2: F::Vec3) -> Result<Self, Error> {
         if !x0.is_finite() {
-            return Err(Error::NotFinite { field: "x0" });
+            return Err(Error::not_finite("x0"));
         }
         if !x2.is_finite() {
-            return Err(Error::NotFinite { field: "x2" });
+            return Err(Error::not_finite("x2"));
         }
         // A component of x2 − x0 overflows only if s > F::MAX.
         let d = x2 - x0;
         if !d.is_finite() {
-            return Err(Error::NotFinite { field: "x2 - x0" });
+            return Err(Error::not_finite("x2 - x0"));
         }
         let s = d.length();
         if !(s > F::ZERO) {
@@ -188,7 +188,7 @@ impl<F: Real> Axis<F> {
             });
         }
         if !s.is_finite() {
-            return Err(Error::NotFinite { field: "x2 - x0" });
+            return Err(Error::not_finite("x2 - x0"));
         }
         let unit = Unit::of(s);
         // s/L from (x2 − x0)/L itself: for a subnormal s, whose rounding

@@ -16,6 +16,7 @@
 //! in closed form. The double integral is done by adaptive Gauss–Kronrod in
 //! f64 with geometric panels towards θ = 0 (the forward peak).
 
+use crate::circumcircle::Axis;
 use crate::error::Error;
 use crate::medium::Homogeneous;
 use crate::phase::{Deflection, PhaseFunction};
@@ -109,13 +110,22 @@ impl<F: Real> PointToPoint<F> {
     /// `Error::NotConverged` (field `"reference"`) when the quadrature spent
     /// [`Self::BUDGET`] evaluations before meeting its tolerance. It never
     /// takes longer than the budget (a few seconds).
+    ///
+    /// The quadrature runs in the connection's unit `L = 2ᵏ` (docs/math.md
+    /// §15), so it is the same at every scale: scaling the problem by a
+    /// power of two λ (end points `λ x`, coefficients `σ/λ`) divides the
+    /// value by λ² exactly, wherever both values are normal numbers. A value
+    /// beyond f64's range is `+∞` (the C API's `OMNEE_ERROR_NOT_FINITE`), one
+    /// below it 0.
     pub fn try_integral<P: PhaseFunction<f64>>(&self, phase: &P) -> Result<f64, Error> {
         let budget = Budget::new(Self::BUDGET);
-        let value = self.integral_within(phase, &budget);
-        budget.finish("reference", value)
+        let scale = self.scale();
+        let value = self.quadrature(&scale, phase, &budget);
+        scale.finish(&budget, value)
     }
 
-    /// The quadrature of [`Self::integral`] against `budget`: for a point
+    /// The quadrature of [`Self::integral`] against `budget` (`+∞` where
+    /// `I` is beyond f64's range): for a point
     /// receiver [`Self::point_integral_within`], with a receiver normal the
     /// integral of the clipped cosine split at its kinks (below).
     ///
@@ -128,9 +138,16 @@ impl<F: Real> PointToPoint<F> {
     /// panel costs the adaptive rule its whole depth at every outer node,
     /// which near θ = π ran for hours.
     pub fn integral_within<P: PhaseFunction<f64>>(&self, phase: &P, budget: &Budget) -> f64 {
+        let scale = self.scale();
+        scale.apply(self.quadrature(&scale, phase, budget))
+    }
+
+    /// [`Self::integral_within`] but for the power of two of `scale`
+    /// ([`Scale`]).
+    fn quadrature<P: PhaseFunction<f64>>(&self, scale: &Scale, phase: &P, budget: &Budget) -> f64 {
         match self.receiver_normal {
-            None => self.point_integral_within(phase, budget),
-            Some(n) => self.cosine_integral_within(n, phase, budget),
+            None => self.point_quadrature(scale, phase, budget),
+            Some(n) => self.cosine_quadrature(n, scale, phase, budget),
         }
     }
 
@@ -141,15 +158,26 @@ impl<F: Real> PointToPoint<F> {
     /// peak. A caller that never has a normal (the browser demo) links
     /// only this, not the cosine's kinks and azimuthal integral.
     pub fn point_integral_within<P: PhaseFunction<f64>>(&self, phase: &P, budget: &Budget) -> f64 {
-        let (s, sigma_t, sigma_s, theta_max) = self.coefficients();
+        let scale = self.scale();
+        scale.apply(self.point_quadrature(&scale, phase, budget))
+    }
+
+    /// [`Self::point_integral_within`] but for the power of two of `scale`.
+    fn point_quadrature<P: PhaseFunction<f64>>(
+        &self,
+        scale: &Scale,
+        phase: &P,
+        budget: &Budget,
+    ) -> f64 {
+        let (tau, theta_max) = (scale.tau, scale.theta_max);
         let tol = 1e-11;
         let inner = |theta: f64| {
             let tan_half = libm::tan(0.5 * theta);
             let over_r = |r: f64| {
                 let (sin_x, cos_x) = libm::sincos(theta * r.min(1.0 - r));
-                transmittance(sigma_t, s * (cos_x + tan_half * sin_x)) * core::f64::consts::TAU
+                transmittance(tau, cos_x + tan_half * sin_x) * core::f64::consts::TAU
             };
-            let levels = layer_levels(sigma_t * s / sinc(theta));
+            let levels = layer_levels(tau / sinc(theta));
             let pieces: &[(f64, f64, Towards)] = if levels > 0 {
                 &[(0.0, 0.5, Towards::Start), (0.5, 1.0, Towards::End)]
             } else {
@@ -164,30 +192,29 @@ impl<F: Real> PointToPoint<F> {
             phase.eval(Deflection::from_theta(theta)) * theta * inner(theta)
         };
         let pieces = [(0.0, theta_max, Towards::Start)];
-        sigma_s / s * budget.integrate_pieces(outer, &pieces, 40, tol)
+        scale.factor * budget.integrate_pieces(outer, &pieces, 40, tol)
     }
 
-    /// `(s, σt, σs, θmax)` in f64, θmax at most the true π: the f32
-    /// θmax = π rounds up (3.14159274 > π), and the quadrature stops where
-    /// the triangle closes.
-    fn coefficients(&self) -> (f64, f64, f64, f64) {
-        (
-            cast(self.connection.axis.s),
+    /// The problem's numbers as the quadrature takes them ([`Scale`]).
+    pub(crate) fn scale(&self) -> Scale {
+        Scale::new(
+            &self.connection.axis,
             cast(self.medium.sigma_t()),
             cast(self.medium.sigma_s()),
-            cast::<F, f64>(self.connection.theta_max).min(core::f64::consts::PI),
+            cast(self.connection.theta_max),
         )
     }
 
-    /// [`Self::integral_within`] with the receiver cosine about the unit
-    /// normal `n`, split at its kinks.
-    fn cosine_integral_within<P: PhaseFunction<f64>>(
+    /// [`Self::quadrature`] with the receiver cosine about the unit normal
+    /// `n`, split at its kinks.
+    fn cosine_quadrature<P: PhaseFunction<f64>>(
         &self,
         n: F::Vec3,
+        scale: &Scale,
         phase: &P,
         budget: &Budget,
     ) -> f64 {
-        let (s, sigma_t, sigma_s, theta_max) = self.coefficients();
+        let (tau, theta_max) = (scale.tau, scale.theta_max);
         let gamma = {
             let n = cast_vec::<F, f64>(n);
             let to_light = -cast_vec::<F, f64>(self.connection.axis.e);
@@ -208,7 +235,7 @@ impl<F: Real> PointToPoint<F> {
             let over_r = |r: f64| {
                 let x = theta * r.min(1.0 - r);
                 let (sin_x, cos_x) = libm::sincos(x);
-                let transmittance = transmittance(sigma_t, s * (cos_x + tan_half * sin_x));
+                let transmittance = transmittance(tau, cos_x + tan_half * sin_x);
                 // (sin β, cos β), for r > ½ from π − β = (π − θ) + α.
                 let (sin_beta, cos_beta) = if r <= 0.5 {
                     (sin_x, cos_x)
@@ -231,7 +258,7 @@ impl<F: Real> PointToPoint<F> {
                 transmittance
                     * azimuthal_cosine((plus, minus), (sin_beta * sin_gamma, cos_beta * cos_gamma))
             };
-            let levels = layer_levels(sigma_t * s / sinc(theta));
+            let levels = layer_levels(tau / sinc(theta));
             // Pieces between the kinks r = β_k/θ inside (0, 1) and, in a
             // thick medium, ½ between the two boundary layers, which the
             // pieces at the ends resolve with geometric panels.
@@ -255,15 +282,72 @@ impl<F: Real> PointToPoint<F> {
         let [k0, k1, k2, k3] = kinks;
         let ends = (Towards::Start, Towards::Neither);
         let (pieces, n) = pieces_between(0.0, theta_max, [k0, k1, k2, k3, f64::NAN], ends);
-        sigma_s / s * budget.integrate_pieces(outer, pieces.get(..n).unwrap_or(&[]), 40, tol)
+        scale.factor * budget.integrate_pieces(outer, pieces.get(..n).unwrap_or(&[]), 40, tol)
     }
 }
 
-/// The transmittance `e^{−σt ℓ}` along the path length `ℓ = d1 + d2`; 1
-/// without extinction (at any length: `e^{−0 · ∞}` would be NaN).
-fn transmittance(sigma_t: f64, path: f64) -> f64 {
-    if sigma_t > 0.0 {
-        libm::exp(-sigma_t * path)
+/// A reference problem's numbers as its quadrature takes them, in the
+/// connection's unit `L = 2ᵏ`, `s = s_unit L` (docs/math.md §15), for
+/// [`PointToPoint`] and [`crate::lobe::LobeToPoint`]. The integrals take
+/// path lengths in units of `s` and the optical thickness `τ = σt s`, and
+///
+/// `I = (σs/s) J = (m/s_unit) J 2^(e − k)`,  `σs = m 2ᵉ`, `m ∈ [1, 2)`,
+///
+/// with the integral `J` and `m/s_unit` of order one at any scale: the
+/// power of two is applied once, to the finished value
+/// ([`Scale::finish`]). Formed in metres, `σs/s` overflowed for a subnormal
+/// `s` while `I` itself was representable. Scaling the problem by a power
+/// of two λ (`x → λ x`, `σ → σ/λ`) leaves `τ`, `m`, `s_unit` and `J` as
+/// they are and moves the exponent by `−2 log₂ λ`: `I → I/λ²` exactly.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Scale {
+    /// The optical thickness of the connection `τ = σt s = (σt s_unit) 2ᵏ`.
+    pub tau: f64,
+    /// `m/s_unit`, the factor of `J` in `I` but for the power of two.
+    pub factor: f64,
+    /// θmax in f64, at most the true π: the f32 θmax = π rounds up
+    /// (3.14159274 > π), and the quadrature stops where the triangle
+    /// closes.
+    pub theta_max: f64,
+    /// `e − k`.
+    exponent: i32,
+}
+
+impl Scale {
+    /// The numbers of a problem on `axis` with σt, σs ≥ 0 (per metre) and
+    /// θmax.
+    pub fn new<F: Real>(axis: &Axis<F>, sigma_t: f64, sigma_s: f64, theta_max: f64) -> Self {
+        let (s_unit, k) = (cast::<F, f64>(axis.s_unit), axis.unit.exponent);
+        // σs = m 2ᵉ (σs = 0 keeps m = 0: I = 0).
+        let e = if sigma_s > 0.0 { sigma_s.exponent() } else { 0 };
+        Self {
+            tau: (sigma_t * s_unit).scale_pow2(k),
+            factor: sigma_s.scale_pow2(-e) / s_unit,
+            theta_max: theta_max.min(core::f64::consts::PI),
+            exponent: e - k,
+        }
+    }
+
+    /// [`Self::apply`]`(value)` (`+∞` above f64's range, 0 below it) for a
+    /// quadrature `value = (m/s_unit) J` that met its tolerance within
+    /// `budget`, else `Error::NotConverged` (field `"reference"`).
+    pub fn finish(&self, budget: &Budget, value: f64) -> Result<f64, Error> {
+        budget.finish("reference", value).map(|v| self.apply(v))
+    }
+
+    /// `I = value 2^(e − k)`, rounded once.
+    #[inline]
+    pub fn apply(&self, value: f64) -> f64 {
+        value.scale_pow2(self.exponent)
+    }
+}
+
+/// The transmittance `e^{−τ ℓ}` along the path length `ℓ = (d1 + d2)/s` in
+/// units of `s`, `τ = σt s`; 1 without extinction (at any length:
+/// `e^{−0 · ∞}` would be NaN).
+pub(crate) fn transmittance(tau: f64, path: f64) -> f64 {
+    if tau > 0.0 {
+        libm::exp(-tau * path)
     } else {
         1.0
     }

@@ -162,8 +162,9 @@ enum omnee_status
   // A parameter is NaN, infinite or outside its range (the record names
   // it, its value and the allowed range).
   OMNEE_ERROR_OUT_OF_RANGE = -1,
-  // A vector parameter has a NaN or infinite component, or a result would
-  // not be finite.
+  // A vector parameter has a NaN or infinite component, finite values
+  // have a sum that is not finite (a table's values near the largest
+  // number), or a result would not be finite.
   OMNEE_ERROR_NOT_FINITE = -2,
   // Two points that must differ coincide (x0 == x2), or a direction is zero.
   OMNEE_ERROR_DEGENERATE = -3,
@@ -996,8 +997,13 @@ omnee_status omnee_phase_rayleigh_f64(struct omnee_phase_f64 *phase,
 // receives the n + 1 entries of the cumulative distribution.
 //
 // The phase function refers to the three arrays: they must outlive it (and
-// its copies) and stay unmodified. Lengths that disagree, misplaced edges or
-// overlapping arrays: `OMNEE_ERROR_TABLE`.
+// its copies) and stay unmodified. Lengths that disagree, misplaced edges,
+// values all 0 or overlapping arrays: `OMNEE_ERROR_TABLE`. A NaN or
+// infinite edge or value, or finite values whose sum weighted by their
+// bins' solid angles is not finite in double precision (values near
+// `DBL_MAX`): `OMNEE_ERROR_NOT_FINITE`, field "theta" or "values". A
+// negative value: `OMNEE_ERROR_OUT_OF_RANGE`, field "values", with that
+// value.
 //
 // # Safety
 // Each array pointer is NULL (allowed with length 0) or points to as many
@@ -1216,6 +1222,11 @@ omnee_status omnee_problem_estimate_f64(const struct omnee_problem_f64 *problem,
 // angles to x2 − x0, where the receiver's horizon passes through the axis,
 // is the known case) before meeting its tolerance returns
 // `OMNEE_ERROR_NOT_CONVERGED` (field "reference") and `*reference` = 0.
+// The quadrature runs in the connection's unit (see SCALE above): at any
+// distance s, subnormal included, the problem scaled by a power of two λ
+// (σ over λ) has the reference over λ², rounded once; an I beyond
+// double's range (at s = 1e-320, σs = 0.5 and θmax = π it is about
+// 1e320) is `OMNEE_ERROR_NOT_FINITE` (field "reference"), one below it 0.
 omnee_status omnee_problem_reference_f32(const struct omnee_problem_f32 *problem,
                                          const struct omnee_phase_f64 *phase,
                                          double *reference,

@@ -34,7 +34,7 @@ pub(crate) fn uniforms<F: Real, const N: usize>(u: Option<[F; N]>) -> Result<[F;
     if u.iter().all(|x| x.is_finite()) {
         Ok(u)
     } else {
-        Err(Error::NotFinite { field: "u" }.into())
+        Err(Error::not_finite("u").into())
     }
 }
 
@@ -44,18 +44,24 @@ pub(crate) fn point<F: Real>(p: omnee_vec3<F>, field: &'static str) -> Result<F:
     if p.is_finite() {
         Ok(p.get())
     } else {
-        Err(Error::NotFinite { field }.into())
+        Err(Error::not_finite(field).into())
     }
 }
 
-/// An output that must be finite (the core guarantees it; this keeps a NaN
-/// from ever crossing the boundary).
+/// An output that must be finite: one beyond the precision's range (a
+/// transfer that grows as 1/s² for a short connection) is
+/// `OMNEE_ERROR_NOT_FINITE` naming it, and no NaN ever crosses the
+/// boundary (the core gives none).
 #[inline]
 pub(crate) fn finite<F: Real>(x: F, field: &'static str) -> Result<F, Failure> {
     if x.is_finite() {
         Ok(x)
     } else {
-        Err(Error::NotFinite { field }.into())
+        Err(Error::NotFinite {
+            field,
+            reason: "is beyond the precision's range",
+        }
+        .into())
     }
 }
 

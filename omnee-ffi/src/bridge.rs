@@ -192,7 +192,7 @@ unsafe fn sample<F: Precision>(
         // SAFETY: u points to 3k values (the contract).
         let numbers = unsafe { slice(u, 3 * k) }.ok_or(Failure::Null("u"))?;
         if !numbers.iter().all(|x| x.is_finite()) {
-            return Err(Error::NotFinite { field: "u" }.into());
+            return Err(Error::not_finite("u").into());
         }
         if let Some(&bad) = numbers.iter().find(|&&x| !(F::ZERO..=F::ONE).contains(&x)) {
             return Err(Error::OutOfRange {
@@ -296,7 +296,7 @@ unsafe fn pdf_of<F: Precision>(
         // SAFETY: vertices points to k points (the contract).
         let points = unsafe { slice(vertices, k) }.ok_or(Failure::Null("vertices"))?;
         if !points.iter().all(|p| p.is_finite()) {
-            return Err(Error::NotFinite { field: "vertices" }.into());
+            return Err(Error::not_finite("vertices").into());
         }
         let mut x = [bridge.axis.x0; MAX_VERTICES];
         for (xi, p) in x.iter_mut().zip(points) {
@@ -379,7 +379,7 @@ unsafe fn invert<F: Precision>(
         // SAFETY: vertices points to k points (the contract).
         let points = unsafe { slice(vertices, k) }.ok_or(Failure::Null("vertices"))?;
         if !points.iter().all(|p| p.is_finite()) {
-            return Err(Error::NotFinite { field: "vertices" }.into());
+            return Err(Error::not_finite("vertices").into());
         }
         let (bytes_v, bytes_u) = (k * size_of::<omnee_vec3<F>>(), capacity * size_of::<F>());
         if overlap(
@@ -628,7 +628,7 @@ fn count_sample<F: Precision>(
     let result = (|| {
         let count = object(count)?;
         if !u.is_finite() {
-            return Err(Error::NotFinite { field: "u" }.into());
+            return Err(Error::not_finite("u").into());
         }
         if !(F::ZERO..=F::ONE).contains(&u) {
             return Err(Error::OutOfRange {

@@ -208,8 +208,13 @@ pub extern "C" fn omnee_phase_rayleigh_f64(
 /// receives the n + 1 entries of the cumulative distribution.
 ///
 /// The phase function refers to the three arrays: they must outlive it (and
-/// its copies) and stay unmodified. Lengths that disagree, misplaced edges or
-/// overlapping arrays: `OMNEE_ERROR_TABLE`.
+/// its copies) and stay unmodified. Lengths that disagree, misplaced edges,
+/// values all 0 or overlapping arrays: `OMNEE_ERROR_TABLE`. A NaN or
+/// infinite edge or value, or finite values whose sum weighted by their
+/// bins' solid angles is not finite in double precision (values near
+/// `DBL_MAX`): `OMNEE_ERROR_NOT_FINITE`, field "theta" or "values". A
+/// negative value: `OMNEE_ERROR_OUT_OF_RANGE`, field "values", with that
+/// value.
 ///
 /// # Safety
 /// Each array pointer is NULL (allowed with length 0) or points to as many
@@ -651,10 +656,7 @@ fn sample<F: Precision>(
         }
         let d = phase.sample(u);
         if !d.is_finite() {
-            return Err(Error::NotFinite {
-                field: "deflection",
-            }
-            .into());
+            return Err(Error::not_finite("deflection").into());
         }
         Ok(Some(omnee_deflection::from_core(d)))
     })();

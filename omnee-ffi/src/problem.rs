@@ -149,7 +149,7 @@ fn estimate_of<F: Precision>(
         let problem = object(problem)?;
         let sample = required(sample, "sample")?;
         if !(sample.x1.is_finite() && sample.pdf.is_finite() && sample.weight.is_finite()) {
-            return Err(Error::NotFinite { field: "sample" }.into());
+            return Err(Error::not_finite("sample").into());
         }
         finite(problem.estimate(&sample.get()), "estimate").map(Some)
     })();
@@ -165,6 +165,11 @@ fn estimate_of<F: Precision>(
 /// angles to x2 − x0, where the receiver's horizon passes through the axis,
 /// is the known case) before meeting its tolerance returns
 /// `OMNEE_ERROR_NOT_CONVERGED` (field "reference") and `*reference` = 0.
+/// The quadrature runs in the connection's unit (see SCALE above): at any
+/// distance s, subnormal included, the problem scaled by a power of two λ
+/// (σ over λ) has the reference over λ², rounded once; an I beyond
+/// double's range (at s = 1e-320, σs = 0.5 and θmax = π it is about
+/// 1e320) is `OMNEE_ERROR_NOT_FINITE` (field "reference"), one below it 0.
 #[unsafe(no_mangle)]
 pub extern "C" fn omnee_problem_reference_f32(
     problem: Option<&omnee_problem_f32>,

@@ -24,8 +24,9 @@ pub enum omnee_status {
     /// A parameter is NaN, infinite or outside its range (the record names
     /// it, its value and the allowed range).
     OMNEE_ERROR_OUT_OF_RANGE = -1,
-    /// A vector parameter has a NaN or infinite component, or a result would
-    /// not be finite.
+    /// A vector parameter has a NaN or infinite component, finite values
+    /// have a sum that is not finite (a table's values near the largest
+    /// number), or a result would not be finite.
     OMNEE_ERROR_NOT_FINITE = -2,
     /// Two points that must differ coincide (x0 == x2), or a direction is zero.
     OMNEE_ERROR_DEGENERATE = -3,

@@ -33,7 +33,7 @@ fn sample_out<F: Real>(s: Sample<F>) -> Result<omnee_sample<F>, Failure> {
     if s.x1.is_finite() && s.pdf.is_finite() && s.weight.is_finite() {
         Ok(s)
     } else {
-        Err(Error::NotFinite { field: "sample" }.into())
+        Err(Error::not_finite("sample").into())
     }
 }
 
@@ -739,7 +739,7 @@ pub unsafe extern "C" fn omnee_omnee_sample_batch_f32(
         );
         for (u, field) in [(u0, "u0"), (u1, "u1"), (u2, "u2")] {
             if !u.iter().all(|x| x.is_finite()) {
-                return Err(Error::NotFinite { field }.into());
+                return Err(Error::not_finite(field).into());
             }
         }
         // SAFETY: as above; each output array is borrowed once.

@@ -276,23 +276,19 @@ pub(crate) trait Object: Sized + Default {
 
 /// A checksum of an object's storage words: each word times its own odd
 /// constant, summed (independent products, so it costs about one cycle a
-/// word), then SplitMix64's finaliser, so that every bit of every word
-/// reaches every bit of the result. Any change of a single word changes
-/// the sum (the constants are odd), and random words match a given
-/// checksum with probability 2⁻⁶⁴.
+/// word), then SplitMix64's finaliser ([`omnee_core::rng::mix`]), so that
+/// every bit of every word reaches every bit of the result. Any change of a
+/// single word changes the sum (the constants are odd), and random words
+/// match a given checksum with probability 2⁻⁶⁴.
 #[inline]
 pub(crate) fn checksum<const N: usize>(words: &[u64; N]) -> u64 {
     let mut h = 0u64;
-    let mut k = 0x9e37_79b9_7f4a_7c15u64;
+    let mut k = omnee_core::rng::SplitMix64::GAMMA;
     for &w in words {
         h = h.wrapping_add(w.wrapping_mul(k | 1));
         k = k.wrapping_add(0x6a09_e667_f3bc_c909);
     }
-    h ^= h >> 30;
-    h = h.wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    h ^= h >> 27;
-    h = h.wrapping_mul(0x94d0_49bb_1331_11eb);
-    h ^ (h >> 31)
+    omnee_core::rng::mix(h)
 }
 
 /// Declares the `Object` impl of an opaque struct with fields `tag` and

@@ -6,6 +6,7 @@
  * "errors: N passed, M failed" and exits non-zero on a failure. */
 #include "omnee.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -143,11 +144,33 @@ int main(void) {
     EXPECT(omnee_phase_table_f32(&table, bad_theta, 4, values, 3, cdf, 4, &e),
            OMNEE_ERROR_TABLE, "theta", "table theta: last edge must be pi");
     EXPECT(omnee_phase_table_f32(&table, theta, 4, nan_values, 3, cdf, 4, &e),
-           OMNEE_ERROR_TABLE, "values", "table values: must be finite and non-negative");
+           OMNEE_ERROR_NOT_FINITE, "values", "values has a non-finite component");
     EXPECT(omnee_phase_table_f32(&table, shared, 4, values, 3, shared + 3, 4, &e),
            OMNEE_ERROR_TABLE, "cdf", "table cdf: overlaps theta or values");
     CHECK(omnee_phase_table_f32(&table, theta, 4, values, 3, cdf, 4, &e) == OMNEE_OK);
     CHECK(cdf[0] == 0.0f && cdf[3] == 1.0f);
+  }
+  /* Tables: non-finite input is not a shape error. Finite values whose
+     weighted sum overflows double precision are not finite in sum; in
+     single precision the sum is taken in double and the table is fine. A
+     negative value is out of range, with its value. */
+  {
+    double theta[3] = {0.0, 1.0, 3.14159265358979323846}, huge[2] = {DBL_MAX, DBL_MAX};
+    double inf_theta[3] = {0.0, INFINITY, 3.14159265358979323846}, negative[2] = {1.0, -2.0};
+    double cdf[3];
+    float theta32[3] = {0.0f, 1.0f, 3.14159265f}, huge32[2] = {FLT_MAX, FLT_MAX}, cdf32[3];
+    omnee_phase_f64 table;
+    omnee_phase_f32 table32;
+    EXPECT(omnee_phase_table_f64(&table, theta, 3, huge, 2, cdf, 3, &e), OMNEE_ERROR_NOT_FINITE,
+           "values",
+           "values have a sum, weighted by their bins' solid angles, that is not finite");
+    EXPECT(omnee_phase_table_f64(&table, inf_theta, 3, negative, 2, cdf, 3, &e),
+           OMNEE_ERROR_NOT_FINITE, "theta", "theta has a non-finite component");
+    EXPECT(omnee_phase_table_f64(&table, theta, 3, negative, 2, cdf, 3, &e),
+           OMNEE_ERROR_OUT_OF_RANGE, "values", "values = -2 is out of range; allowed: [0, inf)");
+    CHECK(e.value == -2.0);
+    CHECK(omnee_phase_table_f32(&table32, theta32, 3, huge32, 2, cdf32, 3, &e) == OMNEE_OK);
+    CHECK(cdf32[0] == 0.0f && cdf32[2] == 1.0f);
   }
 
   /* Objects that no constructor made: zeroed, failed, the other precision. */

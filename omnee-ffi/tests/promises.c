@@ -14,7 +14,13 @@
  *    phase_sample, phase_parse and the batch (no write before a failed
  *    check);
  *  - the reference with a receiver normal and theta_max = pi returns in
- *    well under a second.
+ *    well under a second;
+ *  - the reference obeys the scale law (a problem scaled by a power of two
+ *    lambda, sigma over lambda, has the reference over lambda^2, rounded
+ *    once) at normal scales, 2^+-100 (f32), 2^+-500 and 2^+-1000 (f64) and
+ *    for end points a subnormal distance apart; at 1e-320 apart its value
+ *    is right where it is representable and OMNEE_ERROR_NOT_FINITE where it
+ *    is beyond double's range.
  * Prints "promises: N passed, M failed" and exits non-zero on a failure. */
 #include "omnee.h"
 
@@ -78,8 +84,12 @@ static void garble(uint64_t *words, size_t n, int pattern, size_t flip) {
 #define T_EPS FLT_EPSILON
 #define T_SUB 1.40129846e-45f
 #define SCALES {1e-30, 1e30, 1e38, 3e38}
+/* {base, shift, sigma, sigma at theta_max 1e-30}: see reference_scales_. */
+#define REFERENCE_SCALES \
+  {{0, 20, 0, 0}, {0, -20, 0, 0}, {0, 100, 0, 0}, {0, -100, 0, 0}, {-120, -20, 100, 100}}
 #include "promises_body.inc"
 #undef SCALES
+#undef REFERENCE_SCALES
 #undef T_SUB
 #undef T_EPS
 #undef T_MAX
@@ -92,8 +102,12 @@ static void garble(uint64_t *words, size_t n, int pattern, size_t flip) {
 #define T_EPS DBL_EPSILON
 #define T_SUB 4.9406564584124654e-324
 #define SCALES {1e-300, 1e300, 1e308, 1.6e308}
+#define REFERENCE_SCALES                                                                  \
+  {{0, 20, 0, 0},         {0, -20, 0, 0},     {0, 500, 0, 0},         {0, 1000, 0, 0}, \
+   {0, -500, -500, -500}, {0, -1000, -1000, -800}, {-1000, -70, -200, -200}}
 #include "promises_body.inc"
 #undef SCALES
+#undef REFERENCE_SCALES
 #undef T_SUB
 #undef T_EPS
 #undef T_MAX
@@ -184,9 +198,47 @@ static void batch(void) {
 #undef SENTINEL
 }
 
+/* End points 1e-320 apart (HG 0.9, sigma_s 0.5, sigma_a 0.25, no receiver
+ * normal): for theta_max = 1e-30 the reference is about 2e261, the problem
+ * scaled by 2^64 times 2^128; for pi and pi/2 it is beyond double's range:
+ * OMNEE_ERROR_NOT_FINITE (field "reference", *reference = 0), never
+ * OMNEE_ERROR_NOT_CONVERGED. */
+static void subnormal_reference(void) {
+  const double pi = 3.14159265358979323846, theta_max[3] = {1e-30, pi / 2, pi};
+  const double lambda = ldexp(1.0, 64);
+  omnee_phase_f64 hg;
+  omnee_error e;
+  int i, k;
+  CHECK(omnee_phase_hg_f64(&hg, 0.9, NULL) == OMNEE_OK);
+  for (i = 0; i < 3; i++) {
+    double reference[2];
+    omnee_status status[2];
+    /* The scaled problem first, so that e holds the subnormal one's error. */
+    for (k = 1; k >= 0; k--) {
+      const double l = k == 0 ? 1.0 : lambda;
+      const omnee_vec3_f64 x0 = {0.0, 0.0, 0.0}, x2 = {1e-320 * l, 0.0, 0.0};
+      omnee_connection_f64 c;
+      omnee_problem_f64 p;
+      CHECK(omnee_connection_init_f64(&c, x0, x2, theta_max[i], NULL) == OMNEE_OK);
+      CHECK(omnee_problem_init_f64(&p, &c, 0.5 / l, 0.25 / l, NULL, NULL) == OMNEE_OK);
+      memset(&e, 0, sizeof e);
+      status[k] = omnee_problem_reference_f64(&p, &hg, &reference[k], &e);
+    }
+    CHECK(status[1] == OMNEE_OK && reference[1] > 0.0);
+    if (i == 0) {
+      CHECK(status[0] == OMNEE_OK && reference[0] == reference[1] * lambda * lambda &&
+            reference[0] > 1e261);
+    } else {
+      CHECK(status[0] == OMNEE_ERROR_NOT_FINITE && reference[0] == 0.0 &&
+            strcmp(e.field, "reference") == 0 && isinf(reference[1] * lambda * lambda));
+    }
+  }
+}
+
 int main(void) {
   run_f32();
   run_f64();
+  subnormal_reference();
   parse();
   batch();
   printf("promises: %d passed, %d failed\n", passed, failed);

@@ -127,6 +127,21 @@ def test_a_reference_that_spends_its_budget_is_not_converged_error():
     assert omnee.estimate(reference=False, **kw).mean > 0
 
 
+def test_a_subnormal_distance_has_its_reference_by_the_scale_law():
+    """End points 1e-320 apart (a subnormal distance), HG 0.9, theta_max =
+    1e-30: the reference, about 2.4e261, is the same problem scaled by 2^64
+    (sigma over 2^64) times 2^128, bit for bit: the quadrature runs in the
+    connection's unit. Formed in metres, sigma_s / s overflowed and the
+    reference raised NotConvergedError."""
+    def at(scale):
+        return omnee.estimate(x0=(0, 0, 0), x2=(0, 0, 1e-320 * scale), phase="hg:0.9",
+                              sigma_s=0.5 / scale, sigma_t=0.75 / scale, theta_max=1e-30,
+                              technique="omnee", samples=1000)
+    tiny, normal = at(1.0), at(2.0**64)
+    assert tiny.reference == normal.reference * 2.0**128
+    assert 2e261 < tiny.reference < 3e261
+
+
 CTRL_C = """
 import signal, sys, threading, time, os
 import omnee

@@ -162,6 +162,20 @@ def test_bad_specs_are_value_errors_naming_the_field(spec, message):
         omnee.Phase(spec)
 
 
+def test_a_table_value_beyond_float32_is_out_of_range(tmp_path):
+    """A table's values feed the renderer's f32 phase function too: 1e300, a
+    finite number, is out of range there (before, it was called a
+    non-finite value); the largest float32 values are a table whose sum,
+    taken in float64, is finite."""
+    path = tmp_path / "huge.csv"
+    path.write_text("0,1e300\n180,1\n")
+    with pytest.raises(ValueError, match=r"line 1: value = 1\d+ is out of range; allowed: \[0, 3.4028235e38\]"):
+        omnee.Phase(f"table:{path}")
+    path.write_text("0,3.4e38\n180,3.4e38\n")
+    p = omnee.Phase(f"table:{path}")
+    assert float(p.eval(1.0)) == pytest.approx(0.25 / np.pi, rel=1e-6)
+
+
 def test_repr_and_pickle():
     p = omnee.Phase("tthg:0.99,-0.44,0.96")
     assert repr(p) == 'omnee.Phase("tthg:0.99,-0.44,0.96")'

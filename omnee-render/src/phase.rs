@@ -358,9 +358,13 @@ fn read_table(path: &str) -> Result<(Vec<f64>, Vec<f64>)> {
                 "angle_deg = {a} is out of range; allowed: ({lo}, 180], increasing from 0"
             )));
         }
-        if !(v.is_finite() && v >= 0.0) {
+        // The table is built in f32 as well as f64: a value above f32's
+        // range would be infinite there, which is out of range here, not a
+        // non-finite value of the file's.
+        if !(v >= 0.0 && v <= f64::from(f32::MAX)) {
             return Err(err(&format!(
-                "value = {v} is out of range; allowed: [0, inf)"
+                "value = {v} is out of range; allowed: [0, {:e}] (the renderer works in f32)",
+                f32::MAX
             )));
         }
         angles.push(a);
@@ -493,5 +497,40 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("line 2") && e.contains("value = -1"), "{e}");
+    }
+
+    #[test]
+    fn a_table_value_beyond_f32_is_out_of_range_not_non_finite() {
+        // 1e300 is a finite number, but infinite in f32, where the renderer
+        // builds the table too: the file's line says so, with the range.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("huge.csv");
+        std::fs::write(
+            &path,
+            "0,1e300
+180,1
+",
+        )
+        .unwrap();
+        let e = PhaseSpec::parse(&format!("table:{}", path.display()))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("line 1: value = 1000000000") && e.contains("allowed: [0, 3.4028235e38]"),
+            "{e}"
+        );
+        // The largest f32 values are accepted: their sum is finite in f64.
+        std::fs::write(
+            &path,
+            "0,3.4e38
+180,3.4e38
+",
+        )
+        .unwrap();
+        let p = PhaseSpec::parse(&format!("table:{}", path.display())).unwrap();
+        let mut t = TableStorage::<f64>::default();
+        let f = p.instantiate(&mut t).unwrap();
+        let d = omnee_core::phase::Deflection::from_theta(1.0);
+        assert!((f.eval(d) - 0.25 / std::f64::consts::PI).abs() < 1e-12);
     }
 }

@@ -304,6 +304,47 @@ fn shafts_splat_equals_single_scattering_of_the_refracted_beam() {
     }
 }
 
+/// The density of the paths aimed past the eye, `e cos θt/(2π ρ D)` for a
+/// floor point whose beam passes the eye at the distance D, holds for beams
+/// from 10⁻⁶ m down to 10⁻¹⁰ m from the eye (D of the f32 floor point,
+/// exactly): a path's power, `∝ D` there, balances the beam's light in the
+/// image, `∝ 1/D`. Before, D came from an f32 cross product that loses
+/// everything below `|e − x_f| ε ≈ 3·10⁻⁷ m`: it was 20 % off at 10⁻⁶ m and
+/// 0 within about 10⁻⁷ m, where the term was dropped and one path in 10⁸
+/// of a low-sun view splatted 10¹⁰ times the image's mean.
+#[test]
+fn the_density_past_the_eye_holds_down_to_beams_through_the_eye() {
+    let scene = flat_scene_looking_at(
+        "[0.35, 0.45, 0.45]",
+        0.0,
+        r#"["shafts"]"#,
+        "",
+        "[0.0, 6.0, -1.7]",
+    );
+    let mut storage = TableStorage::<f32>::default();
+    let phase = scene.phase.instantiate(&mut storage).unwrap();
+    let world = UnderwaterWorld::new(&scene, phase, 8, 6);
+    let region = &world.region;
+    let (eye, b) = (world.camera.eye.as_dvec3(), region.beam.as_dvec3());
+    let (e1, e2) = b.any_orthonormal_pair();
+    let (share, rho) = (region.aim.eye as f64, region.aim.eye_radius as f64);
+    for dist in [1e-6, 1e-7, 1e-8, 1e-9, 1e-10] {
+        for k in 0..16 {
+            let phi = std::f64::consts::TAU * k as f64 / 16.0;
+            let q = eye + (e1 * phi.cos() + e2 * phi.sin()) * dist;
+            let xf = (q + b * ((world.floor.z as f64 - q.z) / b.z)).as_vec3();
+            let xf = Vec3::new(xf.x, xf.y, world.floor.z);
+            let d = (eye - xf.as_dvec3()).cross(b).length();
+            let want = share * -b.z / (std::f64::consts::TAU * rho * d);
+            let got = world.start_pdf(xf) as f64;
+            assert!(
+                (got / want - 1.0).abs() < 1e-4,
+                "{dist} m, φ {phi}: {got} against {want} (D = {d})"
+            );
+        }
+    }
+}
+
 /// Flat water over a floor 10 m down, HG 0.8, the eye 3.6 m from the
 /// floor point it looks at, the once-more integrand restricted to θ < 0.4;
 /// only `term` rendered.

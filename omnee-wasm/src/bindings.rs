@@ -117,7 +117,7 @@ fn js(e: omnee_core::Error) -> JsValue {
             " is out of range; allowed: ",
             allowed,
         ),
-        NotFinite { field } => error(field, " has a non-finite component", None, "", ""),
+        NotFinite { field, reason } => error(field, " ", None, reason, ""),
         Degenerate { field, reason } | Arrays { field, reason } => {
             error(field, ": ", None, reason, "")
         }

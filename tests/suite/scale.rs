@@ -619,7 +619,7 @@ fn check_normals<F: Real>() {
     for bad in [nan, inf] {
         assert_eq!(
             Directions::<F>::cosine(bad),
-            Err(Error::NotFinite { field: "normal" })
+            Err(Error::not_finite("normal"))
         );
     }
     assert!(matches!(
@@ -634,7 +634,8 @@ fn check_normals<F: Real>() {
     assert!(matches!(
         PointToPoint::new(c, medium, Some(nan)),
         Err(Error::NotFinite {
-            field: "receiver_normal"
+            field: "receiver_normal",
+            ..
         })
     ));
     assert!(matches!(
@@ -694,10 +695,10 @@ fn a_distance_beyond_the_largest_number_is_named_not_finite() {
         Vec3::new(-0.6 * max, 0.0, 0.0),
         1.0,
     );
-    assert_eq!(far.unwrap_err(), Error::NotFinite { field: "x2 - x0" });
+    assert_eq!(far.unwrap_err(), Error::not_finite("x2 - x0"));
     // Every component representable, the distance √3 max is not.
     let diagonal = Connection::<f32>::new(Vec3::ZERO, Vec3::splat(max), 1.0);
-    assert_eq!(diagonal.unwrap_err(), Error::NotFinite { field: "x2 - x0" });
+    assert_eq!(diagonal.unwrap_err(), Error::not_finite("x2 - x0"));
     // (0.6 max, 0, 0) to (0, 0.6 max, 0): 0.85 max, accepted exactly.
     let c = Connection::<f32>::new(
         Vec3::new(0.6 * max, 0.0, 0.0),
@@ -710,4 +711,138 @@ fn a_distance_beyond_the_largest_number_is_named_not_finite() {
     let e = c.axis.e;
     let want_e: Vec3 = Vec3::new(-1.0, 1.0, 0.0) / 2f32.sqrt();
     assert!((e - want_e).length() < 1e-7, "{e}");
+}
+
+/// One case of the reference's scale law: the base problem's end points
+/// `(0, 0, 0)` and `(1.25, 0.5, −0.75) 2^base` (exactly representable at
+/// every shift below), σs = 0.6 · 2^sigma, σa = 0.3 · 2^sigma, scaled by
+/// `2^shift`; σ is chosen per case, `sigma[1]` for θmax = 1e-30 (whose
+/// transfer is 2^-193 times smaller), so that the base reference is a
+/// normal number and the scaled one is representable or, at 2^500 and
+/// 2^1000, below the smallest subnormal by the law.
+struct ReferenceScale {
+    base: i32,
+    shift: i32,
+    sigma: [i32; 2],
+}
+
+/// The point-to-point reference (HG 0.9) of the base problem of `case`
+/// scaled by `2^shift` (0: the base problem), with θmax and the receiver
+/// normal given.
+fn reference_at<F: Real>(
+    case: &ReferenceScale,
+    shift: i32,
+    theta_max: f64,
+    normal: Option<[f64; 3]>,
+) -> Result<f64, Error> {
+    let v = |x: f64, y: f64, z: f64| {
+        F::Vec3::new(F::from_f64(x), F::from_f64(y), F::from_f64(z)).scale_pow2(case.base + shift)
+    };
+    let c = Connection::new(
+        v(0.0, 0.0, 0.0),
+        v(1.25, 0.5, -0.75),
+        F::from_f64(theta_max),
+    )?;
+    let exponent = case.sigma[usize::from(theta_max < 1e-20)];
+    let sigma = |x: f64| F::from_f64(x).scale_pow2(exponent - shift);
+    let medium = Homogeneous::new(sigma(0.6), sigma(0.3))?;
+    let normal =
+        normal.map(|[x, y, z]| F::Vec3::new(F::from_f64(x), F::from_f64(y), F::from_f64(z)));
+    PointToPoint::new(c, medium, normal)?.try_integral(&HenyeyGreenstein::new(0.9).unwrap())
+}
+
+/// `I(λ) = I(1)/λ²` for every case, θmax = π, π/2 and 1e-30 (a normal at
+/// π/2 too): bit for bit, the scaled reference equals the base one times
+/// `2^(−2 shift)`, rounded once (so also where it leaves the normal range).
+fn check_reference_scales<F: Real>(cases: &[ReferenceScale]) {
+    let pi = core::f64::consts::PI;
+    let mut failures = Vec::new();
+    for case in cases {
+        for (theta_max, normal) in [
+            (pi, None),
+            (0.5 * pi, None),
+            (1e-30, None),
+            (0.5 * pi, Some([0.3, -0.2, 1.0])),
+        ] {
+            let (base, scaled) = (
+                reference_at::<F>(case, 0, theta_max, normal),
+                reference_at::<F>(case, case.shift, theta_max, normal),
+            );
+            let line = format!(
+                "s = 2^{} scaled by 2^{}, θmax {theta_max:e}, normal {normal:?}: {base:?} → {scaled:?}",
+                case.base, case.shift
+            );
+            println!("{line}");
+            match (base, scaled) {
+                (Ok(a), Ok(b))
+                    if a > 0.0 && a.is_finite() && b == a.scale_pow2(-2 * case.shift) => {}
+                _ => failures.push(line),
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The quadrature reference obeys the scale law the C header states
+/// (docs/math.md §15.3) at normal scales, 2^±500, 2^±1000 (f64: the
+/// transfer at 2^1000 is below the smallest subnormal, 0 by the law) and
+/// for end points a subnormal distance apart. Formed in metres, σs/s
+/// overflowed for a subnormal s: the reference said `NotConverged`.
+#[test]
+fn the_reference_obeys_the_scale_law_at_every_scale_f64() {
+    let case = |base, shift, sigma| ReferenceScale { base, shift, sigma };
+    check_reference_scales::<f64>(&[
+        case(0, 20, [0, 0]),
+        case(0, -20, [0, 0]),
+        case(0, 500, [0, 0]),
+        case(0, 1000, [0, 0]),
+        case(0, -500, [-500, -500]),
+        // σ times 2^1000 stays in range: the optical thickness is 2^-1000.
+        case(0, -1000, [-1000, -800]),
+        // (1.25, 0.5, −0.75) 2^-1070: a subnormal distance.
+        case(-1000, -70, [-200, -200]),
+    ]);
+}
+
+/// [`the_reference_obeys_the_scale_law_at_every_scale_f64`] for
+/// single-precision problems: normal scales, 2^±100 and a subnormal f32
+/// distance.
+#[test]
+fn the_reference_obeys_the_scale_law_at_every_scale_f32() {
+    let case = |base, shift, sigma| ReferenceScale { base, shift, sigma };
+    check_reference_scales::<f32>(&[
+        case(0, 20, [0, 0]),
+        case(0, -20, [0, 0]),
+        case(0, 100, [0, 0]),
+        case(0, -100, [0, 0]),
+        // (1.25, 0.5, −0.75) 2^-140: a subnormal distance in f32.
+        case(-120, -20, [100, 100]),
+    ]);
+}
+
+/// End points 1e-320 apart, HG 0.9, σs = 0.5, σa = 0.25, no receiver
+/// normal: for θmax = 1e-30 the reference is about 2e261, the same problem
+/// scaled by 2^64 (a normal distance) times 2^128 bit for bit; for θmax = π
+/// and π/2 it is beyond f64's range, +∞ by the same law (the C API's
+/// `OMNEE_ERROR_NOT_FINITE`), never `NotConverged`.
+#[test]
+fn a_subnormal_distance_has_its_reference() {
+    let hg = HenyeyGreenstein::new(0.9).unwrap();
+    for theta_max in [1e-30, core::f64::consts::FRAC_PI_2, core::f64::consts::PI] {
+        let at = |lambda: f64| {
+            let x2 = DVec3::new(1e-320 * lambda, 0.0, 0.0);
+            let c = Connection::new(DVec3::ZERO, x2, theta_max).unwrap();
+            let medium = Homogeneous::new(0.5 / lambda, 0.25 / lambda).unwrap();
+            PointToPoint::new(c, medium, None)
+                .unwrap()
+                .try_integral(&hg)
+        };
+        let (tiny, normal) = (at(1.0), at(2f64.powi(64)).unwrap());
+        assert_eq!(tiny, Ok(normal * 2f64.powi(128)), "θmax {theta_max:e}");
+        assert_eq!(
+            tiny.unwrap().is_finite(),
+            theta_max < 1.0,
+            "θmax {theta_max:e}"
+        );
+    }
 }

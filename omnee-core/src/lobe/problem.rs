@@ -6,7 +6,7 @@ use crate::error::Error;
 use crate::phase::{Deflection, PhaseFunction};
 use crate::quadrature::Budget;
 use crate::real::{Real, sinc};
-use crate::reference::PointToPoint;
+use crate::reference::{PointToPoint, Scale, transmittance};
 use crate::sampling::Sample;
 
 /// Geometric levels of the quadrature panels towards a peak: the first
@@ -107,15 +107,23 @@ impl<L: Lobe<f64>> LobeToPoint<f64, L> {
             return self.point.try_integral(phase);
         };
         let budget = Budget::new(Self::BUDGET);
-        let value = self.lobe_integral(lobe, phase, &budget);
-        budget.finish("reference", value)
+        let scale = self.point.scale();
+        let value = self.lobe_quadrature(lobe, &scale, phase, &budget);
+        scale.finish(&budget, value)
     }
 
-    /// The quadrature of [`Self::try_integral`] with a lobe, against `budget`.
-    fn lobe_integral<P: PhaseFunction<f64>>(&self, lobe: &L, phase: &P, budget: &Budget) -> f64 {
+    /// The quadrature of [`Self::try_integral`] with a lobe, against
+    /// `budget`, with path lengths in units of `s` and the optical
+    /// thickness `σt s`, but for the power of two of `scale` ([`Scale`]).
+    fn lobe_quadrature<P: PhaseFunction<f64>>(
+        &self,
+        lobe: &L,
+        scale: &Scale,
+        phase: &P,
+        budget: &Budget,
+    ) -> f64 {
         let axis = &self.point.connection.axis;
-        let (s, theta_max) = (axis.s, self.point.connection.theta_max);
-        let sigma_t = self.point.medium.sigma_t();
+        let (tau, theta_max) = (scale.tau, scale.theta_max);
         let (e, b1, b2) = (axis.e, axis.b1, axis.b2);
         // Each level's tolerance sits above the rounding noise of the
         // integrals inside it, or the outer adaptive rule would bisect noise.
@@ -127,17 +135,13 @@ impl<L: Lobe<f64>> LobeToPoint<f64, L> {
                 // Reflected panels may round a hair past θmax (and π).
                 let theta = theta.clamp(alpha, theta_max);
                 let beta = theta - alpha;
+                // (d1 + d2)/s.
                 let path = if theta > 0.0 {
-                    s * (beta * sinc(beta) + alpha * sinc(alpha)) / (theta * sinc(theta))
-                } else {
-                    s
-                };
-                let transmittance = if sigma_t > 0.0 {
-                    libm::exp(-sigma_t * path)
+                    (beta * sinc(beta) + alpha * sinc(alpha)) / (theta * sinc(theta))
                 } else {
                     1.0
                 };
-                phase.eval(Deflection::from_theta(theta)) * transmittance
+                phase.eval(Deflection::from_theta(theta)) * transmittance(tau, path)
             };
             // Panels towards α (p1's peak) and, in the upper half, towards
             // θmax: near θ = π the path is long except in a layer of width
@@ -183,8 +187,7 @@ impl<L: Lobe<f64>> LobeToPoint<f64, L> {
                 0.0
             }
         };
-        self.point.medium.sigma_s() / s
-            * split_integral(&over_alpha, theta_max, gamma, tol_alpha, budget)
+        scale.factor * split_integral(&over_alpha, theta_max, gamma, tol_alpha, budget)
     }
 }
 

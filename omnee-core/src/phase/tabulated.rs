@@ -33,8 +33,16 @@ impl<'a, F: Real> Tabulated<'a, F> {
     /// A table from `n + 1` bin edges `theta` (field `"theta"`: finite,
     /// strictly increasing, `θ_0 = 0`, `θ_n = π` up to 4 ulps of the
     /// precision's π), `n ≥ 1` bin values `values` (field `"values"`: finite,
-    /// ≥ 0, not all 0) and a buffer `cdf` of `n + 1` entries (field `"cdf"`)
-    /// that receives the cumulative distribution.
+    /// ≥ 0, not all 0, with a finite total mass `Σ v_i Δx_i` in f64) and a
+    /// buffer `cdf` of `n + 1` entries (field `"cdf"`) that receives the
+    /// cumulative distribution.
+    ///
+    /// Errors: lengths that disagree, misplaced or unordered edges and
+    /// values all 0 are `Table`; a NaN or infinite edge or value is
+    /// `NotFinite` ("has a non-finite component"), and so are finite values
+    /// whose total mass overflows (f64 values near `f64::MAX`: "have a sum,
+    /// weighted by their bins' solid angles, that is not finite"); a
+    /// negative value is `OutOfRange` with that value.
     pub fn new(theta: &'a [F], values: &'a [F], cdf: &'a mut [F]) -> Result<Self, Error> {
         let err = |field, reason| Err(Error::Table { field, reason });
         let n = values.len();
@@ -48,7 +56,7 @@ impl<'a, F: Real> Tabulated<'a, F> {
             return err("cdf", "buffer needs exactly values.len() + 1 entries");
         }
         if theta.iter().any(|t| !t.is_finite()) {
-            return err("theta", "has a non-finite edge");
+            return Err(Error::not_finite("theta"));
         }
         if theta[0] != F::ZERO {
             return err("theta", "first edge must be 0");
@@ -61,8 +69,15 @@ impl<'a, F: Real> Tabulated<'a, F> {
         if theta.windows(2).any(|w| w[0] >= w[1]) {
             return err("theta", "edges must be strictly increasing");
         }
-        if values.iter().any(|v| !(v.is_finite() && *v >= F::ZERO)) {
-            return err("values", "must be finite and non-negative");
+        if values.iter().any(|v| !v.is_finite()) {
+            return Err(Error::not_finite("values"));
+        }
+        if let Some(v) = values.iter().find(|v| **v < F::ZERO) {
+            return Err(Error::OutOfRange {
+                field: "values",
+                value: v.to_f64(),
+                allowed: "[0, inf)",
+            });
         }
         let mut total = 0.0f64;
         let mut first_moment = 0.0f64;
@@ -76,7 +91,10 @@ impl<'a, F: Real> Tabulated<'a, F> {
             return err("values", "are all zero");
         }
         if !total.is_finite() {
-            return err("values", "too large: total mass overflows");
+            return Err(Error::NotFinite {
+                field: "values",
+                reason: "have a sum, weighted by their bins' solid angles, that is not finite",
+            });
         }
         let mut acc = 0.0f64;
         cdf[0] = F::ZERO;
@@ -349,18 +367,56 @@ mod tests {
         let mut e = EDGES;
         e[3] = e[2];
         assert_eq!(field(Tabulated::new(&e, &VALUES, &mut buf)), "theta");
-        let mut e = EDGES;
-        e[3] = f64::NAN;
-        assert_eq!(field(Tabulated::new(&e, &VALUES, &mut buf)), "theta");
-        let mut v = VALUES;
-        v[2] = -1.0;
-        assert_eq!(field(Tabulated::new(&EDGES, &v, &mut buf)), "values");
-        v[2] = f64::NAN;
-        assert_eq!(field(Tabulated::new(&EDGES, &v, &mut buf)), "values");
         assert_eq!(field(Tabulated::new(&EDGES, &[0.0; 7], &mut buf)), "values");
         // The f32 π is accepted as the last edge.
         let e32 = EDGES.map(|t| t as f32);
         let mut b32 = [0.0f32; 8];
         assert!(Tabulated::new(&e32, &[1.0f32; 7], &mut b32).is_ok());
+    }
+
+    /// Non-finite input is `NotFinite`, not a table of the wrong shape: a NaN
+    /// or infinite edge or value, and finite values whose weighted sum
+    /// overflows (two bins of `f64::MAX`); a negative value is `OutOfRange`.
+    #[test]
+    fn non_finite_and_negative_input_is_named_as_such() {
+        let not_finite = |r: Result<Tabulated<'_, f64>, Error>| match r.unwrap_err() {
+            Error::NotFinite { field, reason } => std::format!("{field} {reason}"),
+            e => panic!("{e:?}"),
+        };
+        let mut buf = [0.0f64; 8];
+        for bad in [f64::NAN, f64::INFINITY] {
+            let mut e = EDGES;
+            e[3] = bad;
+            assert_eq!(
+                not_finite(Tabulated::new(&e, &VALUES, &mut buf)),
+                "theta has a non-finite component"
+            );
+            let mut v = VALUES;
+            v[2] = bad;
+            assert_eq!(
+                not_finite(Tabulated::new(&EDGES, &v, &mut buf)),
+                "values has a non-finite component"
+            );
+        }
+        let huge = [f64::MAX, f64::MAX];
+        let (e, mut b) = ([0.0, 1.0, PI], [0.0f64; 3]);
+        assert_eq!(
+            not_finite(Tabulated::new(&e, &huge, &mut b)),
+            "values have a sum, weighted by their bins' solid angles, that is not finite"
+        );
+        let mut v = VALUES;
+        v[2] = -1.0;
+        assert_eq!(
+            Tabulated::new(&EDGES, &v, &mut buf).unwrap_err(),
+            Error::OutOfRange {
+                field: "values",
+                value: -1.0,
+                allowed: "[0, inf)"
+            }
+        );
+        // In f32 the same values are accumulated in f64, where their sum is
+        // finite: the table is accepted.
+        let (e32, mut b32) = ([0.0f32, 1.0, core::f32::consts::PI], [0.0f32; 3]);
+        assert!(Tabulated::new(&e32, &[f32::MAX, f32::MAX], &mut b32).is_ok());
     }
 }

@@ -11,7 +11,7 @@ use crate::real::{Real, Vector, unit_vector};
 /// ("must be finite and non-zero") for the zero vector, naming `field`.
 pub fn unit_normal<F: Real>(n: F::Vec3, field: &'static str) -> Result<F::Vec3, Error> {
     if !n.is_finite() {
-        return Err(Error::NotFinite { field });
+        return Err(Error::not_finite(field));
     }
     unit_vector::<F>(n).ok_or(Error::Degenerate {
         field,

@@ -241,27 +241,37 @@ fn sums_lobe<F: Real>(
     })
 }
 
-/// `(mean, stderr)` if both are finite, else an error naming the fields
-/// that set the transfer's size: the mean of an extreme but valid problem
-/// can exceed f64's range (σs = 1e300 at s = 1e-300 gives `I ≈ 1e600`);
-/// it is refused, never printed as ∞ or NaN.
+/// `(mean, stderr)` if both are finite, else [`beyond_range`] for the
+/// estimate `mean +- stderr`.
 fn in_range(p: &Prepared, (mean, stderr): (f64, f64)) -> Result<(f64, f64)> {
     if mean.is_finite() && stderr.is_finite() {
         return Ok((mean, stderr));
     }
-    Err(RenderError::Input(format!(
-        "{}: the estimate ({mean} +- {stderr}) is beyond f64's range; allowed: a problem whose \
-         transfer (about sigma_s / |x2 - x0| for a thin medium) and its draws' estimates stay \
-         below {:e}",
+    Err(beyond_range(
+        p,
+        &format!("the estimate ({mean} +- {stderr})"),
+    ))
+}
+
+/// The error for a `value` (the estimate, the reference) beyond f64's range,
+/// naming the fields that set the transfer's size: an extreme but valid
+/// problem can exceed it (σs = 1e300 at s = 1e-300 gives `I ≈ 1e600`,
+/// σs = 0.5 at s = 1e-320 `I ≈ 1e320`); it is refused, never printed as ∞
+/// or NaN.
+fn beyond_range(p: &Prepared, value: &str) -> RenderError {
+    RenderError::Input(format!(
+        "{}: {value} is beyond f64's range; allowed: a problem whose transfer (about \
+         sigma_s / |x2 - x0| for a thin medium) and its draws' estimates stay below {:e}",
         p.spelling.list(&["x0", "x2", "sigma_s"]),
         f64::MAX
-    )))
+    ))
 }
 
 /// The f64 quadrature value of the problem (docs/math.md §5, §12.5), or
 /// the core's `NotConverged` when it spent its evaluation budget
 /// ([`omnee_core::reference::PointToPoint::BUDGET`], a few seconds at
-/// most), named by `reference`.
+/// most), named by `reference`, or [`beyond_range`] where the value exceeds
+/// f64 (the core's `+∞`).
 fn quadrature(p: &Prepared) -> Result<f64> {
     let mut st = TableStorage::<f64>::default();
     let phase = p.phase.instantiate::<f64>(&mut st)?;
@@ -270,7 +280,12 @@ fn quadrature(p: &Prepared) -> Result<f64> {
     } else {
         p.with_sampler::<f64, _>(|sampler| sampler.problem.try_integral(&phase))?
     };
-    value.map_err(|e| not_converged(p.spelling, e))
+    let value = value.map_err(|e| not_converged(p.spelling, e))?;
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(beyond_range(p, &format!("the reference ({value})")))
+    }
 }
 
 #[cfg(test)]

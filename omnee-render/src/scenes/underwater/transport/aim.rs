@@ -237,6 +237,14 @@ impl UnderwaterWorld<'_> {
     /// and `q_eye = cos θt / (2π ρ D)` for the beam through `x_f` passing the
     /// eye at the distance `D < ρ` (uniform in `D` and in angle about the eye
     /// in the plane across the beam, whose area is `cos θt` times the floor's).
+    ///
+    /// `D` is computed in f64 from the f32 points, so `q_eye` holds down to
+    /// the beams through the eye itself, where it is `+∞` (such a path
+    /// carries no power). In f32, `|(e − x_f) × b|` loses everything below
+    /// `|e − x_f| ε ≈ 5·10⁻⁷ m`: for a beam that close to the eye it rounded
+    /// to 0, the term was dropped, and the path's power, `∝ D` where the
+    /// term balances the beam's light `∝ 1/D`, came out 10⁷ times too large
+    /// (docs/math.md §13.6).
     pub fn start_pdf(&self, xf: Vec3) -> f32 {
         let r = &self.region;
         let defensive = (1.0 - r.aim.camera - r.aim.eye) * r.tail.pdf(xf.truncate());
@@ -252,13 +260,15 @@ impl UnderwaterWorld<'_> {
             }
             _ => 0.0,
         };
-        let dist = v.cross(r.beam).length();
-        let eye = if dist < r.aim.eye_radius && dist > 0.0 {
-            -r.beam.z / (std::f32::consts::TAU * r.aim.eye_radius * dist)
+        let dist = v.as_dvec3().cross(r.beam.as_dvec3()).length();
+        let radius = f64::from(r.aim.eye_radius);
+        let eye = if r.aim.eye > 0.0 && dist < radius {
+            let q_eye = -f64::from(r.beam.z) / (std::f64::consts::TAU * radius * dist);
+            (f64::from(r.aim.eye) * q_eye) as f32
         } else {
             0.0
         };
-        r.aim.camera * cam + r.aim.eye * eye + defensive
+        r.aim.camera * cam + eye + defensive
     }
 
     /// The floor point `x_f` a light path aims at (see [`Aim`]); `None` for

@@ -67,15 +67,18 @@ impl UnderwaterWorld<'_> {
         let Some((ta, tb)) = self.camera.clip(y, dt, 0.0, len) else {
             return;
         };
-        let line = EquiangularLine::new(y + dt * ta, dt, tb - ta, self.camera.eye);
-        let n = self.samples[1];
-        let k = match line {
-            Some(l) => {
-                let k = (n as f32 * l.angle() / self.camera.fov()).ceil();
-                (k as u32).clamp(1, 16 * n)
-            }
-            None => n,
+        // A ray within rounding of the eye (`EquiangularLine` has no
+        // density about a point on its line) adds nothing: its light, ∝ 1/D
+        // at the distance D from the eye, is infinite on the line, and free
+        // flight, drawing points next to the eye with the weight 1/d², gave
+        // one path 10¹⁰ times the image's mean. Such rays, closer than
+        // 10⁻⁶ (1 + |Δ|) m, carry less than 10⁻⁵ of the layer's light
+        // (docs/math.md §13.6).
+        let Some(line) = EquiangularLine::new(y + dt * ta, dt, tb - ta, self.camera.eye) else {
+            return;
         };
+        let n = self.samples[1];
+        let k = ((n as f32 * line.angle() / self.camera.fov()).ceil() as u32).clamp(1, 16 * n);
         let segment = Segment {
             y,
             dt,
@@ -113,22 +116,21 @@ impl UnderwaterWorld<'_> {
         // Free flight from `ta`: the truncated exponential on `[ta, tb]`.
         let free = |t: f32| self.water.free_flight_pdf(tb - ta, t - ta);
         let flight = |u: [f32; 2]| ta + self.water.free_flight(tb - ta, u);
-        let along = |l: EquiangularLine, u: f32| ta + l.sample(u);
-        let (t, pdf) = match (self.shafts, line) {
-            (ShaftSampling::Equiangular, Some(l)) => {
-                let t = along(l, u0);
-                (t, l.pdf(t - ta))
+        let along = |u: f32| ta + line.sample(u);
+        let (t, pdf) = match self.shafts {
+            ShaftSampling::Equiangular => {
+                let t = along(u0);
+                (t, line.pdf(t - ta))
             }
-            (ShaftSampling::Mis, Some(l)) => {
+            ShaftSampling::Mis => {
                 let t = if u0 < 0.5 {
-                    along(l, 2.0 * u0)
+                    along(2.0 * u0)
                 } else {
                     flight([2.0 * u0 - 1.0, u1])
                 };
-                (t, 0.5 * (l.pdf(t - ta) + free(t)))
+                (t, 0.5 * (line.pdf(t - ta) + free(t)))
             }
-            // Free flight, or the eye on the ray's line (no equiangular density).
-            _ => {
+            ShaftSampling::FreeFlight => {
                 let t = flight([u0, u1]);
                 (t, free(t))
             }
@@ -153,12 +155,80 @@ impl UnderwaterWorld<'_> {
 
 /// The part of a refracted sun ray `y + t d_t` the camera sees,
 /// `t ∈ [ta, tb]`, and the equiangular sampler about the eye on it (`t`
-/// counted from `ta`; `None` when the eye is on the ray's line).
+/// counted from `ta`).
 #[derive(Clone, Copy, Debug)]
 struct Segment {
     y: Vec3,
     dt: Vec3,
     ta: f32,
     tb: f32,
-    line: Option<EquiangularLine>,
+    line: EquiangularLine,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::phase::TableStorage;
+    use crate::scenes::underwater::UnderwaterScene;
+
+    /// A refracted sun ray through the eye, the camera looking along it:
+    /// its image is one point, where its light, ∝ 1/D at the distance D
+    /// from the eye, is infinite. It adds nothing (before, free flight on
+    /// the ray drew vertices next to the eye with the weight 1/d², whose
+    /// mean is infinite), for each way of sampling the shafts; a ray 1 mm
+    /// from the eye adds its light.
+    #[test]
+    fn a_ray_through_the_eye_adds_nothing() {
+        // The sun 38° above the horizon; the beam's direction through a flat
+        // surface, to look along it.
+        let text = |look_at: Vec3| {
+            format!(
+                r#"
+[sun]
+direction = [0.35, 0.45, 0.45]
+angular_radius_deg = 0.0
+[surface]
+kind = "flat"
+[water]
+sigma_s = [0.10, 0.18, 0.06]
+sigma_a = [0.30, 0.06, 0.02]
+phase = "hg:0.4"
+[floor]
+z = -6.0
+[camera]
+position = [0.0, -1.0, -1.5]
+look_at = {:?}
+fov = 35.0
+width = 16
+height = 12
+[render]
+terms = ["shafts"]
+"#,
+                look_at.to_array()
+            )
+        };
+        let eye = Vec3::new(0.0, -1.0, -1.5);
+        let probe = UnderwaterScene::parse(&text(eye + Vec3::Y)).unwrap();
+        let mut storage = TableStorage::<f32>::default();
+        let phase = probe.phase.instantiate(&mut storage).unwrap();
+        let dt = UnderwaterWorld::new(&probe, phase, 16, 12).region.beam;
+        let scene = UnderwaterScene::parse(&text(eye + dt)).unwrap();
+        let phase = scene.phase.instantiate(&mut storage).unwrap();
+        let mut world = UnderwaterWorld::new(&scene, phase, 16, 12);
+        // The surface point whose refracted ray passes through the eye, and
+        // one whose ray passes 1 mm beside it.
+        let y = eye - dt * (eye.z / dt.z);
+        let (side, _) = dt.any_orthonormal_pair();
+        for sampling in ShaftSampling::ALL {
+            world.shafts = *sampling;
+            for (offset, lit) in [(0.0, false), (1e-3, true)] {
+                let y = y + side * offset;
+                let len = (world.floor.z - y.z) / dt.z;
+                let mut rng = Rng::stream(7, 0, 0);
+                let (mut out, mut stats) = (Vec::new(), UnderwaterStats::default());
+                world.shafts(y, dt, len, 1.0, &mut rng, &mut out, &mut stats);
+                assert_eq!(!out.is_empty(), lit, "{sampling:?}, {offset} m: {out:?}");
+            }
+        }
+    }
 }
