@@ -214,10 +214,10 @@ impl<F: Real> EquiangularSegment<F> {
         t_max: F,
     ) -> Result<Self, Error> {
         if !x0.is_finite() {
-            return Err(Error::NotFinite { field: "x0" });
+            return Err(Error::not_finite("x0"));
         }
         if !origin.is_finite() {
-            return Err(Error::NotFinite { field: "origin" });
+            return Err(Error::not_finite("origin"));
         }
         let omega = unit_normal::<F>(direction, "direction")?;
         if !(t_min >= F::ZERO && t_min.is_finite()) {
