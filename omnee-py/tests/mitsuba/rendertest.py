@@ -48,6 +48,10 @@ class Outcome:
     """The rendered mean, XYZ."""
     reference: np.ndarray
     """The reference mean, XYZ."""
+    variance_ratio: np.ndarray
+    """Per pixel and channel, the image's per-sample variance over the
+    reference's (where both are above 10⁻⁸): above 1 where the integrator
+    is noisier than the reference's."""
 
 
 def reference_files(scene_file: str, variant: str) -> Tuple[str, str]:
@@ -72,20 +76,19 @@ def _xyz(path: str) -> np.ndarray:
     return np.array(bitmap, copy=True)
 
 
-def _first_moment(bitmap) -> np.ndarray:
-    """The image of a film that a ``moment`` integrator wrote (its first
-    layer after the image itself), or the film's image."""
-    import mitsuba as mi
-
+def _moments(bitmap) -> Tuple[np.ndarray, np.ndarray]:
+    """The mean and the per-sample variance of a film that a ``moment``
+    integrator wrote (its first two layers after the image itself), XYZ."""
     layers = bitmap.split()
-    if len(layers) == 1:
-        image = layers[0][1]
-        if image.channel_count() >= 3 and image.pixel_format() != mi.Bitmap.PixelFormat.XYZ:
-            image = image.convert(mi.Bitmap.PixelFormat.XYZ, mi.Struct.Type.Float32, False)
-        out = np.array(image, copy=True)
-    else:
-        out = np.array(layers[1][1], copy=True)
-    return out[..., np.newaxis] if out.ndim == 2 else out
+    if len(layers) < 3:
+        raise RuntimeError("the scene's integrator is not wrapped in a moment integrator")
+
+    def array(layer) -> np.ndarray:
+        out = np.array(layer, copy=True).astype(np.float64)
+        return out[..., np.newaxis] if out.ndim == 2 else out
+
+    mean, m2 = array(layers[1][1]), array(layers[2][1])
+    return mean, np.maximum(m2 - mean * mean, 0.0)
 
 
 def p_values(mean: np.ndarray, spp: int, reference: np.ndarray, variance: np.ndarray) -> np.ndarray:
@@ -111,8 +114,10 @@ def run(scene_file: str, integrator: str, variant: str, seed: int = 0, **paramet
     start = time.time()
     scene.integrator().render(scene, seed=seed, spp=spp, develop=True)
     seconds = time.time() - start
-    image = _first_moment(scene.sensors()[0].film().bitmap(raw=False))
+    image, image_variance = _moments(scene.sensors()[0].film().bitmap(raw=False))
     p = p_values(image, spp, reference, variance)
+    both = (variance > 1e-8) & (image_variance > 1e-8)
+    ratio = np.where(both, image_variance / np.where(both, variance, 1.0), np.nan)
     level = 1.0 - (1.0 - SIGNIFICANCE) ** (1.0 / pixels)
     passed = np.count_nonzero(p > level) / p.shape[-1]
     return Outcome(
@@ -124,6 +129,7 @@ def run(scene_file: str, integrator: str, variant: str, seed: int = 0, **paramet
         seconds=seconds,
         image=image,
         reference=reference,
+        variance_ratio=ratio,
     )
 
 

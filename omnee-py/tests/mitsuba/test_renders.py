@@ -35,9 +35,14 @@ MITSUBAS = chosen(rendertest.scenes(os.environ["OMNEE_MITSUBA_DATA"])) if os.env
 
 
 def check(mi, scene_file):
+    import numpy as np
+
     outcome = rendertest.run(scene_file, "omnee_volpath", VARIANT)
+    ratio = outcome.variance_ratio[np.isfinite(outcome.variance_ratio)]
     print(f"{os.path.basename(scene_file)}: {outcome.fraction:.4%} of pixels above the level "
-          f"{outcome.level:.2e} (min p {outcome.min_p:.2e}), {outcome.spp} spp, {outcome.seconds:.1f} s")
+          f"{outcome.level:.2e} (min p {outcome.min_p:.2e}), {outcome.spp} spp, {outcome.seconds:.1f} s; "
+          f"variance / the reference's: median {np.median(ratio):.3g}, "
+          f"99th percentile {np.percentile(ratio, 99):.3g}, max {ratio.max():.3g}")
     assert outcome.accepted, (
         f"{os.path.basename(scene_file)}: {outcome.fraction:.4%} of the pixels pass; "
         f"allowed: at least {rendertest.PIXEL_FRACTION:.2%}"

@@ -183,26 +183,30 @@ class Paths(Lanes):
 
 
 class Random:
-    """The sampler's numbers for the live lanes: Mitsuba's sampler draws for
-    the whole wavefront of camera samples, and each live lane keeps its own
-    camera sample's number."""
+    """The uniform numbers of the live paths: one PCG32 stream per camera
+    sample (its sequence the sample's lane in the wavefront, its state from
+    one number of Mitsuba's sampler, so that a render is the same for the
+    same seed), compacted with the paths. Mitsuba's sampler itself draws for
+    the whole wavefront at every call, whatever is left of it."""
 
-    def __init__(self, sampler: Any, width: int) -> None:
+    def __init__(self, sampler: Any, seed: Any, lane: Any) -> None:
         self.sampler = sampler
-        self.width = width
-        self.lane: Any = None
+        """Mitsuba's sampler (for the phase functions' context)."""
+        state = mi.UInt64(mi.UInt32(mi.Float(seed) * 4294967040.0))
+        self.rng = mi.PCG32(dr.width(lane), state, mi.UInt64(lane))
 
-    def compact(self, lane: Any) -> None:
-        self.lane = lane
-
-    def _live(self, u: Any) -> Any:
-        return u if self.lane is None else dr.gather(type(u), u, self.lane)
+    def compact(self, index: Any) -> None:
+        self.rng.state = dr.gather(mi.UInt64, self.rng.state, index)
+        self.rng.inc = dr.gather(mi.UInt64, self.rng.inc, index)
 
     def next_1d(self) -> Any:
-        return self._live(self.sampler.next_1d())
+        return self.rng.next_float32()
 
     def next_2d(self) -> Any:
-        return self._live(self.sampler.next_2d())
+        return mi.Point2f(self.rng.next_float32(), self.rng.next_float32())
+
+    def fields(self) -> List[Any]:
+        return [self.rng.state, self.rng.inc]
 
 
 class Strategies:
@@ -357,15 +361,16 @@ def _interaction(p: Any, n: Any, ray: Any) -> Any:
     return it
 
 
-def render_wavefront(integrator: Any, info: SceneInfo, scene: Any, sampler: Any, ray_: Any,
-                     medium_: Any, active_: Any) -> Tuple[Any, Any]:
-    """volpath with the once-more strategies over one wavefront of camera
-    rays: ``(radiance, valid)`` per camera sample."""
+def render_wavefront(integrator: Any, info: SceneInfo, scene: Any, sampler: Any, seed: Any,
+                     lane: Any, ray_: Any, medium_: Any, active_: Any) -> Tuple[Any, Any]:
+    """volpath with the once-more strategies over camera rays ``ray_`` (the
+    lanes ``lane`` of the wavefront, ``seed`` a uniform number of each):
+    ``(radiance, valid)`` per camera ray."""
     max_depth, rr_depth, hide = integrator.max_depth, integrator.rr_depth, integrator.hide_emitters
     width = dr.width(ray_.o)
     groups = len(info.groups)
     surface_lights = info.surface_lights
-    random = Random(sampler, width)
+    random = Random(sampler, seed, lane)
     radiance = dr.zeros(mi.Spectrum, width)
     valid_out = dr.zeros(mi.Bool, width)
 
@@ -424,7 +429,7 @@ def render_wavefront(integrator: Any, info: SceneInfo, scene: Any, sampler: Any,
             leg.compact(index)
             if vertex is not None:
                 vertex.compact(index)
-            random.compact(p.lane)
+            random.compact(index)
             n = alive
         ray, medium, channel, throughput = p.ray, p.medium, p.channel, p.throughput
         active = mi.Bool(p.active)
@@ -631,12 +636,56 @@ def render_wavefront(integrator: Any, info: SceneInfo, scene: Any, sampler: Any,
 
         active &= active_surface | active_medium
         p.ray, p.medium, p.throughput, p.depth, p.active = ray, medium, throughput, depth, active
-        random.sampler.schedule_state()
-        dr.eval(p.fields(), leg.fields(), [] if vertex is None else vertex.fields())
+        dr.eval(p.fields(), leg.fields(), random.fields(), [] if vertex is None else vertex.fields())
 
     flush(dr.full(mi.Bool, True, dr.width(p.lane)))
     radiance = dr.select(dr.all(dr.isfinite(mi.UnpolarizedSpectrum(radiance))), radiance, 0.0)
     return radiance, valid_out
+
+
+# Camera rays per wavefront: the live paths' state takes about 1 KiB each.
+_CHUNK = 1 << 21
+
+
+def render_chunks(integrator: Any, info: SceneInfo, scene: Any, sampler: Any, ray: Any,
+                  medium: Any, active: Any) -> Tuple[Any, Any]:
+    """:func:`render_wavefront` over the camera rays, at most ``_CHUNK`` at a
+    time (Mitsuba hands an integrator all the samples of a pass at once)."""
+    width = dr.width(ray.o)
+    seed = sampler.next_1d()
+    sampler.schedule_state()
+    dr.eval(seed)
+    if width <= _CHUNK:
+        lane = dr.arange(mi.UInt32, width)
+        return render_wavefront(integrator, info, scene, sampler, seed, lane, ray, medium, active)
+    radiance = dr.zeros(mi.Spectrum, width)
+    valid = dr.zeros(mi.Bool, width)
+    active = mi.Bool(active) | dr.zeros(mi.Bool, width)
+    media = dr.zeros(mi.MediumPtr, width)
+    if medium is not None:
+        media[active] = mi.MediumPtr(medium)
+    for start in range(0, width, _CHUNK):
+        lane = dr.arange(mi.UInt32, start, min(start + _CHUNK, width))
+
+        def take(x: Any) -> Any:
+            return dr.gather(type(x), x, lane)
+
+        chunk = mi.Ray3f(take(ray.o), take(ray.d), take(ray.maxt), take(ray.time), take(ray.wavelengths))
+        r, v = render_wavefront(integrator, info, scene, sampler, take(seed), lane, chunk,
+                                take(media), take(active))
+        dr.scatter(radiance, r, lane)
+        dr.scatter(valid, v, lane)
+        dr.eval(radiance, valid)
+    return radiance, valid
+
+
+def _boolean(props: Any, name: str) -> bool:
+    """The boolean parameter ``name`` (default true); another type raises
+    ``ValueError`` naming it."""
+    value = props.get(name, True)
+    if not isinstance(value, bool):
+        raise ValueError(f'"{name}" = {value!r} is not supported; allowed: true or false')
+    return value
 
 
 def make_class() -> Any:
@@ -651,8 +700,8 @@ def make_class() -> Any:
             max_depth = props.get("max_depth", -1)
             rr_depth = props.get("rr_depth", 5)
             hide = props.get("hide_emitters", False)
-            self.omnee = bool(props.get("omnee", True))
-            self.equiangular = bool(props.get("equiangular", True))
+            self.omnee = _boolean(props, "omnee")
+            self.equiangular = _boolean(props, "equiangular")
             self.mis = props.get("mis", "power")
             if self.mis not in ("power",) + _mis.STRATEGIES:
                 raise ValueError(
@@ -685,8 +734,7 @@ def make_class() -> Any:
                 # integrator, with spectral MIS where the extinction is chromatic.
                 fallback = self._volpathmis if info.chromatic else self._volpath
                 return fallback.sample(scene, sampler, ray, medium, active)
-            result, valid = render_wavefront(self, info, scene, sampler, ray, medium, active)
-            return result, valid, []
+            return (*render_chunks(self, info, scene, sampler, ray, medium, active), [])
 
         def aov_names(self) -> List[str]:
             return []

@@ -116,18 +116,26 @@ class Emission(NamedTuple):
 
 def emission(x1: Any, x0: LightPoint, active: Any) -> Emission:
     """The light ``x0`` sends to the interaction ``x1`` (its ``p``, ``time``,
-    ``wavelengths``)."""
+    ``wavelengths``). A delta light is asked by its own ``sample_direction``
+    from ``x1``, which ignores its sample and connects to its position (and
+    sets what its ``eval`` reads: a spot's falloff, a projector's texture
+    coordinates); a surface emitter by ``eval_direction`` at the point
+    :func:`sample` chose."""
     active = mi.Bool(active)
+    delta = active & x0.delta
+    surface = active & ~x0.delta
     d = x0.p - x1.p
     dist = dr.norm(d)
     d = d / dist
     ds = mi.DirectionSample3f(
         x0.p, x0.n, x0.uv, x1.time, mi.Float(0.0), x0.delta, d, dist, x0.emitter
     )
-    value = mi.Spectrum(x0.emitter.eval_direction(x1, ds, active))
-    cos0 = dr.abs(dr.dot(d, x0.n))
-    inv_d2 = dr.rcp(dr.square(dist))
-    value = dr.select(x0.delta, value * dr.square(dist), value * cos0)
-    g0 = dr.select(x0.delta, inv_d2, cos0 * inv_d2)
-    ok = active & (dist > 0.0) & dr.isfinite(dist)
+    value = mi.Spectrum(x0.emitter.eval_direction(x1, ds, surface))
+    ds_delta, value_delta = x0.emitter.sample_direction(x1, mi.Point2f(0.5), delta)
+    ds[delta] = ds_delta
+    cos0 = dr.abs(dr.dot(ds.d, ds.n))
+    inv_d2 = dr.rcp(dr.square(ds.dist))
+    value = dr.select(delta, mi.Spectrum(value_delta) * dr.square(ds.dist), value * cos0)
+    g0 = dr.select(delta, inv_d2, cos0 * inv_d2)
+    ok = active & (ds.dist > 0.0) & dr.isfinite(ds.dist)
     return Emission(dr.select(ok, value, 0.0), ds, dr.select(ok, g0, 0.0))
