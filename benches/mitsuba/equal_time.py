@@ -32,7 +32,7 @@ import numpy as np
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 SCENES = {
     "fog": os.path.join(ROOT, "examples", "mitsuba", "fog.xml"),
-    "sky": os.path.join(ROOT, "omnee-py", "tests", "mitsuba", "scenes", "test_envmap_iso_volpath.xml"),
+    "sky": os.path.join(ROOT, "omnee-py", "tests-mitsuba", "scenes", "test_envmap_iso_volpath.xml"),
 }
 
 

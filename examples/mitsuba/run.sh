@@ -18,6 +18,6 @@ fi
 export DRJIT_LIBLLVM_PATH="$llvm"
 venv="$PWD/target/omnee-mitsuba-venv"
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
-"$venv/bin/python" -m pip install --quiet -r omnee-py/tests/mitsuba/requirements.txt
+"$venv/bin/python" -m pip install --quiet -r omnee-py/tests-mitsuba/requirements.txt
 "$venv/bin/python" -m pip install --quiet ./omnee-py
 "$venv/bin/python" examples/mitsuba/render.py "$@"

@@ -63,6 +63,33 @@ def connectable(x0: Any, x2: Any) -> Any:
     return dr.all(dr.isfinite(x0)) & dr.all(dr.isfinite(x2)) & dr.any(x0 != x2)
 
 
+def _refused_row(error: ValueError) -> int:
+    """The row a ValueError of the core names (``row N: …``), or −1."""
+    text = str(error)
+    if text.startswith("row "):
+        head = text[4:].split(":", 1)[0]
+        if head.isdigit():
+            return int(head)
+    return -1
+
+
+def _rows_accepted(call: Any, arrays: Sequence[np.ndarray]) -> Tuple[np.ndarray, Any]:
+    """``call(*arrays)`` on the rows the core accepts: a row it refuses
+    (which the lanes' own checks should have left out; rounding can differ
+    at a hair's breadth) is dropped and the call made again. Returns the
+    rows kept and the call's result on them."""
+    keep = np.arange(len(arrays[0]))
+    for _ in range(16):
+        try:
+            return keep, call(*[a[keep] for a in arrays])
+        except ValueError as error:
+            row = _refused_row(error)
+            if row < 0:
+                raise
+            keep = np.delete(keep, row)
+    raise RuntimeError("the omnee core refused more rows than expected")
+
+
 def omnee_draw(groups: Sequence[Any], group: Any, x0: Any, x2: Any, u: Any, active: Any) -> Tuple[Any, Any, Any]:
     """OMNEE's vertex ``x1`` for every active lane, drawn by the core's
     batch over connections (float32) with its group's phase function:
@@ -76,8 +103,9 @@ def omnee_draw(groups: Sequence[Any], group: Any, x0: Any, x2: Any, u: Any, acti
         index = lanes(active & (group == g))
         if dr.width(index) == 0:
             continue
-        a, b, uu = rows(index, x0, x2, u)
-        s = omnee.Omnee(x0=a, x2=b, phase=grp.phase).sample(uu)
+        kept, s = _rows_accepted(lambda a, b, uu: omnee.Omnee(x0=a, x2=b, phase=grp.phase).sample(uu),
+                                 rows(index, x0, x2, u))
+        index = dr.gather(mi.UInt32, index, mi.UInt32(kept))
         x1 += points(width, index, s.x1)
         pdf += floats(width, index, s.pdf)
         valid |= mask(width, index, s.valid)
@@ -94,27 +122,34 @@ def omnee_pdf(groups: Sequence[Any], group: Any, x0: Any, x2: Any, x1: Any, acti
         index = lanes(active & (group == g))
         if dr.width(index) == 0:
             continue
-        a, b, c = rows(index, x0, x2, x1)
-        pdf += floats(width, index, omnee.Omnee(x0=a, x2=b, phase=grp.phase).pdf(c))
+        kept, values = _rows_accepted(lambda a, b, c: omnee.Omnee(x0=a, x2=b, phase=grp.phase).pdf(c),
+                                      rows(index, x0, x2, x1))
+        pdf += floats(width, index if len(kept) == dr.width(index) else
+                      dr.gather(mi.UInt32, index, mi.UInt32(kept)), values)
     return pdf
 
 
 def segment_ok(x0: Any, origin: Any, direction: Any, t_min: Any, t_max: Any) -> Any:
-    """Lanes whose segments the core accepts: finite, ``0 ≤ t_min < t_max``,
-    and ``x0`` not on the segment itself (off the line by more than 10⁻⁵
-    of its distance, far beyond rounding, or past either end)."""
+    """Lanes whose segments the core accepts, with a margin: finite,
+    ``0 ≤ t_min < t_max``, and ``x0`` off the ray's line by more than 10⁻⁴
+    of its distance, or clearly before or past the segment. Equiangular
+    sampling does not run on the others (and so has no density there: every
+    strategy's weight sees the same rule)."""
     to_light = x0 - origin
     d = dr.normalize(direction)
-    off = dr.norm(dr.cross(to_light, d)) > 1e-5 * dr.norm(to_light)
+    scale = dr.norm(to_light)
+    off = dr.norm(dr.cross(to_light, d)) > 1e-4 * scale
     foot = dr.dot(to_light, d)
+    margin = 1e-4 * scale
     return (dr.all(dr.isfinite(x0)) & dr.all(dr.isfinite(origin)) & dr.all(dr.isfinite(direction))
-            & (t_min >= 0.0) & dr.isfinite(t_min) & (t_max > t_min)
-            & (off | (foot < t_min) | (foot > t_max)))
+            & (t_min >= 0.0) & dr.isfinite(t_min) & (t_max > t_min) & (scale > 0.0)
+            & (off | (foot < t_min - margin) | (foot > t_max + margin)))
 
 
 def equiangular_draw(x0: Any, origin: Any, direction: Any, t_max: Any, u: Any, active: Any) -> Tuple[Any, Any, Any]:
     """The core's equiangular distance along each active lane's ray
-    ``origin + t direction``, ``t ∈ [0, t_max]`` (∞ allowed), towards ``x0``:
+    ``origin + t direction``, ``t ∈ [0, t_max]`` (∞ allowed), towards ``x0``
+    (in float64: the rows' checks then see the lanes' values exactly):
     ``(t, pdf, valid)``, the distance and its density per metre."""
     width = dr.width(active)
     t = dr.zeros(mi.Float, width)
@@ -122,8 +157,9 @@ def equiangular_draw(x0: Any, origin: Any, direction: Any, t_max: Any, u: Any, a
     index = lanes(mi.Bool(active) & segment_ok(x0, origin, direction, 0.0, t_max))
     if dr.width(index) == 0:
         return t, pdf, dr.zeros(mi.Bool, width)
-    a, o, d, hi, uu = rows(index, x0, origin, direction, mi.Float(t_max), u)
-    s = omnee.EquiangularSegment(a, o, d, 0.0, hi).sample(uu)
+    kept, s = _rows_accepted(lambda a, o, d, hi, uu: omnee.EquiangularSegment(a, o, d, 0.0, hi).sample(uu),
+                             rows(index, x0, origin, direction, mi.Float(t_max), u, dtype=np.float64))
+    index = dr.gather(mi.UInt32, index, mi.UInt32(kept))
     return floats(width, index, s.t), floats(width, index, s.pdf), mask(width, index, s.valid)
 
 
@@ -134,5 +170,7 @@ def equiangular_pdf(x0: Any, origin: Any, direction: Any, t_min: Any, t_max: Any
     index = lanes(mi.Bool(active) & segment_ok(x0, origin, direction, t_min, t_max))
     if dr.width(index) == 0:
         return dr.zeros(mi.Float, width)
-    a, o, d, lo, hi, tt = rows(index, x0, origin, direction, mi.Float(t_min), mi.Float(t_max), mi.Float(t))
-    return floats(width, index, omnee.EquiangularSegment(a, o, d, lo, hi).pdf(tt))
+    kept, values = _rows_accepted(
+        lambda a, o, d, lo, hi, tt: omnee.EquiangularSegment(a, o, d, lo, hi).pdf(tt),
+        rows(index, x0, origin, direction, mi.Float(t_min), mi.Float(t_max), mi.Float(t), dtype=np.float64))
+    return floats(width, dr.gather(mi.UInt32, index, mi.UInt32(kept)), values)

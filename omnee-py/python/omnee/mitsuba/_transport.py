@@ -38,10 +38,26 @@ def medium_interaction(medium: Any, p: Any, wi: Any, wavelengths: Any, time: Any
     mei.medium = medium
     mei.t = mi.Float(0.0)
     mei.mint = mi.Float(0.0)
-    sigma_s, sigma_n, sigma_t = medium.get_scattering_coefficients(mei, active)
-    mei.sigma_s, mei.sigma_n, mei.sigma_t = sigma_s, sigma_n, sigma_t
+    # A medium exists only inside its bounding box, where its free flights
+    # are sampled (a grid's lookup would clamp to its edge outside it).
+    inside = mi.Bool(active) & contains(medium, p)
+    sigma_s, sigma_n, sigma_t = medium.get_scattering_coefficients(mei, inside)
+    mei.sigma_s = dr.select(inside, sigma_s, 0.0)
+    mei.sigma_n = dr.select(inside, sigma_n, 0.0)
+    mei.sigma_t = dr.select(inside, sigma_t, 0.0)
     mei.combined_extinction = medium.get_majorant(mei, active)
     return mei
+
+
+def contains(medium: Any, p: Any) -> Any:
+    """Whether ``p`` lies in the bounding box of ``medium``: a ray from
+    ``p`` enters the box at or before its origin and leaves it at or after
+    (a homogeneous medium, unbounded, answers [0, ∞) everywhere)."""
+    # A direction along no axis: the slab test of an axis the ray is
+    # parallel to divides by zero.
+    ray = mi.Ray3f(mi.Point3f(p), mi.Vector3f(0.48, 0.6, 0.64))
+    hit, mint, maxt = medium.intersect_aabb(ray)
+    return hit & (mint <= 0.0) & (maxt >= 0.0)
 
 
 def medium_interaction_at(p: Any, wavelengths: Any) -> Any:

@@ -325,3 +325,26 @@ def test_wavefronts_split_into_chunks_render_the_same_image(mi, monkeypatch):
     again, _, _ = mean_and_error()
     np.testing.assert_array_equal(first, again)
     assert abs(a - b) <= 4.5 * math.hypot(sa, sb), (a, sa, b, sb)
+
+
+def test_rows_the_core_refuses_are_dropped_not_raised(mi):
+    """The lanes' checks leave out what the core refuses; where rounding
+    differs at a hair's breadth, the refused row is dropped and the call
+    made again, and an error that names no row still raises."""
+    from omnee.mitsuba import _bridge
+
+    x0 = np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 0.5], [0.0, 1.0, 1.0]])
+    origin = np.zeros((3, 3))
+    direction = np.tile([0.0, 0.0, 1.0], (3, 1))
+
+    def draw(a, o, d):
+        return omnee.EquiangularSegment(a, o, d, 0.0, 2.0).sample(np.full(len(a), 0.5))
+
+    kept, s = _bridge._rows_accepted(draw, [x0, origin, direction])
+    assert kept.tolist() == [2] and s.valid.all()
+
+    def broken(a):
+        raise ValueError("x0 is bad")
+
+    with pytest.raises(ValueError, match="x0 is bad"):
+        _bridge._rows_accepted(broken, [x0])

@@ -1,8 +1,8 @@
 """The Mitsuba tests: they need ``mitsuba`` and ``drjit`` (``pip install
 omnee[mitsuba]``) and a JIT variant whose backend works (``llvm_ad_rgb``:
 Dr.Jit's LLVM backend, with ``DRJIT_LIBLLVM_PATH`` pointing at LLVM ≥ 16).
-Where ``OMNEE_MITSUBA_REQUIRED`` is set (``omnee-py/mitsuba-ci.sh`` sets
-it), a missing Mitsuba fails the run instead of skipping it."""
+Where ``OMNEE_MITSUBA_REQUIRED`` is set (``ci.sh`` here sets it), a
+missing Mitsuba fails the run instead of skipping it."""
 
 import os
 import sys

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # omnee.mitsuba in CI, run by .ci/run from the repository root:
-#   bash omnee-py/tests/mitsuba/ci.sh [WHEEL]
+#   bash omnee-py/tests-mitsuba/ci.sh [WHEEL]
 #  1. Dr.Jit's LLVM backend: Debian 12's LLVM 15 cannot compile volpath's
 #     kernels ("Cannot select: ... fminimum"); Debian's libllvm19 can, through
 #     DRJIT_LIBLLVM_PATH (installed here if missing);
@@ -11,7 +11,7 @@
 #     whole set: run pytest without OMNEE_MITSUBA_SCENES).
 # A Mitsuba that cannot run fails the step (OMNEE_MITSUBA_REQUIRED).
 set -euo pipefail
-cd "$(dirname "$0")/../../.."
+cd "$(dirname "$0")/../.."
 SECONDS=0
 step() { printf '\n--> [%4ds] %s\n' "$SECONDS" "$*"; }
 
@@ -29,7 +29,7 @@ step "a venv with Mitsuba 3.9.1, Dr.Jit 1.5.0 and omnee"
 venv="${OMNEE_MITSUBA_VENV:-$PWD/target/omnee-mitsuba-venv}"
 python3 -m venv --clear "$venv"
 "$venv/bin/python" -m pip install --quiet --upgrade pip
-"$venv/bin/python" -m pip install --quiet -r omnee-py/tests/mitsuba/requirements.txt
+"$venv/bin/python" -m pip install --quiet -r omnee-py/tests-mitsuba/requirements.txt
 if [ $# -ge 1 ]; then
   "$venv/bin/python" -m pip install --quiet --no-deps "$1"
 else
@@ -37,7 +37,7 @@ else
 fi
 
 step "the integrator's tests and the render test on the pinned scenes"
-cd omnee-py/tests/mitsuba
+cd omnee-py/tests-mitsuba
 OMNEE_MITSUBA_REQUIRED=1 \
 OMNEE_MITSUBA_SCENES="${OMNEE_MITSUBA_SCENES:-fog_point_hg90,fog_area_tthg,grid_point,envmap_iso}" \
   "$venv/bin/python" -m pytest -q -p no:cacheprovider test_integrator.py test_renders.py
