@@ -8,7 +8,11 @@
 #     omnee: the wheel WHEEL if given (dist/build.sh's), else ./omnee-py;
 #  3. the integrator's tests (test_integrator.py) and Mitsuba's render test
 #     on a pinned few of the scenes in scenes/ (2·10⁶ samples each; the
-#     whole set: run pytest without OMNEE_MITSUBA_SCENES).
+#     whole set: run pytest without OMNEE_MITSUBA_SCENES). The few are
+#     those that pass with room: `fog_point_hg90` and `grid_point` pass at
+#     the limit (2 pixels of 1024 below the level, 2 allowed), on scenes
+#     where volpath itself fails against its own references (11-17 pixels;
+#     docs/mitsuba.md §4).
 # A Mitsuba that cannot run fails the step (OMNEE_MITSUBA_REQUIRED).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -39,6 +43,6 @@ fi
 step "the integrator's tests and the render test on the pinned scenes"
 cd omnee-py/tests-mitsuba
 OMNEE_MITSUBA_REQUIRED=1 \
-OMNEE_MITSUBA_SCENES="${OMNEE_MITSUBA_SCENES:-fog_point_hg90,fog_area_tthg,grid_point,envmap_iso}" \
+OMNEE_MITSUBA_SCENES="${OMNEE_MITSUBA_SCENES:-camera_in_fog_point,fog_area_tthg,fog_area_hg98,envmap_iso}" \
   "$venv/bin/python" -m pytest -q -p no:cacheprovider test_integrator.py test_renders.py
 step "done"
