@@ -184,7 +184,10 @@ impl Omnee<f32, HenyeyGreenstein<f32>> {
             let d1 = s * sin_beta_ * inv_sin_theta;
             let d2 = s * sin_alpha_ * inv_sin_theta;
             let (sin_phi, cos_phi) = sin_cos_turn(clamp_unit(u2[i]));
-            let (p1, h) = (d1 * cos_alpha * length, d1 * sin_alpha * length);
+            // x1 = x0 + (e d1 cos α + ρ d1 sin α) with d1 in metres, in the
+            // scalar sampler's order (d1 L overflowing as its does).
+            let d1_metres = d1 * length;
+            let (p1, h) = (d1_metres * cos_alpha, d1_metres * sin_alpha);
             // p = p(θ) sinc θ · s/(d1 d2)², k/p = θ/(s sin θ), per L³ and
             // per 1/L.
             let d12 = d1 * d2;
@@ -192,9 +195,9 @@ impl Omnee<f32, HenyeyGreenstein<f32>> {
             let pdf_unit = phase_pdf * sin_theta_ * s / (theta_ * (d12 * d12));
             let pdf = pdf_unit * inverse * inverse * inverse;
             let weight = theta_ * inv_sin_theta * inv_s * inverse;
-            let x = x0.x + e.x * p1 + (b1.x * cos_phi + b2.x * sin_phi) * h;
-            let y = x0.y + e.y * p1 + (b1.y * cos_phi + b2.y * sin_phi) * h;
-            let z = x0.z + e.z * p1 + (b1.z * cos_phi + b2.z * sin_phi) * h;
+            let x = x0.x + (e.x * p1 + (b1.x * cos_phi + b2.x * sin_phi) * h);
+            let y = x0.y + (e.y * p1 + (b1.y * cos_phi + b2.y * sin_phi) * h);
+            let z = x0.z + (e.z * p1 + (b1.z * cos_phi + b2.z * sin_phi) * h);
             // `&`, not `&&`: no branches in the loop body. `|x| < ∞` is
             // `is_finite` (NaN fails): a vertex beyond the largest number
             // is no sample, as in the scalar sampler.
@@ -349,7 +352,7 @@ mod tests {
     use super::*;
     use crate::Vector;
     use crate::sampling::{Connection, Technique};
-    use glam::Vec3;
+    use glam::{DVec3, Vec3};
 
     fn ulps(a: f32, b: f64) -> f64 {
         (a as f64 - b).abs() / (f32::EPSILON as f64 * b.abs().max(f32::MIN_POSITIVE as f64))
@@ -395,8 +398,10 @@ mod tests {
     #[test]
     fn the_batch_matches_the_scalar_sampler() {
         // At ordinary scales and far outside them (2^±100: 1e±30), where
-        // the triangle is solved in the connection's unit.
-        for scale in [0, -40, 40, -100, 100] {
+        // the triangle is solved in the connection's unit, up to the ends
+        // of the range: at 2^127 part of the vertices lie beyond the
+        // largest number, below 2^-126 the end points are subnormal.
+        for scale in [0, -40, 40, -100, 100, -126, 126, 127, -135, -148] {
             batch_matches_scalar_at(scale);
         }
     }
@@ -454,10 +459,14 @@ mod tests {
                 match omnee.sample(*u) {
                     Some(s) => {
                         expected += 1;
-                        let size =
-                            Vector::length(s.x1 - c.axis.x0) + Vector::length(c.axis.x0) + c.axis.s;
-                        let d = Vector::length(Vec3::new(x[i], y[i], z[i]) - s.x1) / size;
-                        dx = dx.max(d as f64);
+                        // Relative to the size (in f64: at 2^127 it
+                        // overflows f32), less a few of the subnormal
+                        // coordinates' ulps (2⁻¹⁴⁹ each).
+                        let (x0, x1) = (c.axis.x0.as_dvec3(), s.x1.as_dvec3());
+                        let size = (x1 - x0).length() + x0.length() + f64::from(c.axis.s);
+                        let ulps = 4.0 * f64::from(f32::from_bits(1));
+                        let d = (DVec3::new(x[i].into(), y[i].into(), z[i].into()) - x1).length();
+                        dx = dx.max((d - ulps).max(0.0) / size);
                         // Saturated densities (f32 at 1e-30: about 1e90)
                         // saturate alike.
                         if s.pdf == f32::MAX {
@@ -475,7 +484,9 @@ mod tests {
                     None => assert!(pdf[i] == 0.0 && weight[i] == 0.0, "g {g}: {u:?}"),
                 }
             }
-            std::println!("2^{scale}, g {g}: x1 {dx:.1e}, pdf {dp:.1e}, weight {dw:.1e}");
+            std::println!(
+                "2^{scale}, g {g}: {count} of {m} lanes, x1 {dx:.1e}, pdf {dp:.1e}, weight {dw:.1e}"
+            );
             assert_eq!(count, expected, "g {g}, 2^{scale}");
             // Measured ≤ 2.8e-7, 2.1e-6 and 5.4e-7.
             assert!(
