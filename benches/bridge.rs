@@ -424,11 +424,13 @@ fn stress() {
 }
 
 fn main() {
+    // The command line's settings (a filter, --measurement-time, ...) over
+    // these defaults.
     let mut c = Criterion::default()
-        .configure_from_args()
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(2))
-        .sample_size(30);
+        .sample_size(30)
+        .configure_from_args();
     cost::<f32>(&mut c, "f32", &[1, 2, 3, 4, 5, 6, 7, 8]);
     cost::<f64>(&mut c, "f64", &[1, 2, 4, 8]);
     one_vertex(&mut c);

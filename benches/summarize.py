@@ -6,6 +6,10 @@ slab renderer's connection).
 Usage: python3 benches/summarize.py [CRITERION_DIR]
 (default: $CARGO_TARGET_DIR/criterion, else target/criterion).
 
+       python3 benches/summarize.py --compare BEFORE_DIR AFTER_DIR
+prints every benchmark id of either directory (of any criterion bench, the
+bridges' too) with its median per item in both and after ÷ before.
+
 Every samplers benchmark processes BATCH = 256 samples (or vertices, or
 connections) per iteration, so ns per item = criterion's mean time per
 iteration / 256 (the median and the confidence interval are scaled alike). Prints Markdown tables to stdout.
@@ -42,7 +46,39 @@ def load(root):
     return out
 
 
+def medians(root):
+    """{full id: (criterion's median per item, its 95 % CI)}: per item of
+    the throughput where the benchmark declares one, else per iteration."""
+    out = {}
+    for dirpath, _, files in os.walk(root):
+        if "benchmark.json" not in files or not dirpath.endswith("new"):
+            continue
+        with open(os.path.join(dirpath, "benchmark.json")) as f:
+            b = json.load(f)
+        with open(os.path.join(dirpath, "estimates.json")) as f:
+            m = json.load(f)["median"]
+        items = (b.get("throughput") or {}).get("Elements", 1)
+        ci = m["confidence_interval"]
+        out[b["full_id"]] = (m["point_estimate"] / items,
+                             ci["lower_bound"] / items, ci["upper_bound"] / items)
+    return out
+
+
+def compare(before, after):
+    """Every id of either run, before and after side by side."""
+    a, b = medians(before), medians(after)
+    cell = lambda d: f"{d[0]:.1f} [{d[1]:.1f}, {d[2]:.1f}]" if d else "–"
+    print("| criterion id | before | after | after ÷ before |")
+    print("|---|---|---|---|")
+    for key in sorted(set(a) | set(b)):
+        x, y = a.get(key), b.get(key)
+        ratio = f"{y[0] / x[0]:.2f}" if x and y else "–"
+        print(f"| `{key}` | {cell(x)} | {cell(y)} | {ratio} |")
+
+
 def main():
+    if len(sys.argv) == 4 and sys.argv[1] == "--compare":
+        return compare(sys.argv[2], sys.argv[3])
     root = sys.argv[1] if len(sys.argv) > 1 else os.path.join(
         os.environ.get("CARGO_TARGET_DIR", "target"), "criterion")
     data = load(root)

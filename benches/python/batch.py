@@ -8,6 +8,7 @@ Usage (with omnee installed, e.g. `pip install ./omnee-py`):
 
     python3 benches/python/batch.py [--quick] [--criterion DIR] [--dtype float32|float64]
                                     [--instructions]
+    python3 benches/python/batch.py --gate N CALLS  # benches/gate.py's measurement
 
 Times: wall time (time.perf_counter) and CPU time of the whole process,
 all threads (time.process_time), per sample, the best of several calls
@@ -201,6 +202,10 @@ def main():
     p.add_argument("--speed-child", action="store_true", help=argparse.SUPPRESS)
     p.add_argument("--memory-child", nargs=2, help=argparse.SUPPRESS)
     p.add_argument("--calls-child", nargs=3, help=argparse.SUPPRESS)
+    p.add_argument("--gate", nargs=2, type=int, metavar=("N", "CALLS"),
+                   help="print CPU ns per draw of one connection and per row (N draws, "
+                        "the least of CALLS calls of each, in turns of five, in this process) "
+                        "as JSON")
     p.add_argument("--instructions", action="store_true",
                    help="also count instructions per sample with valgrind (minutes)")
     a = p.parse_args()
@@ -215,6 +220,17 @@ def main():
         return
     if a.calls_child:
         calls(int(a.calls_child[0]), dtype, a.calls_child[1], int(a.calls_child[2]))
+        return
+    if a.gate:
+        # The two cases in turns of five calls, so that both see the same
+        # load (and each turn's later calls reuse the memory its first
+        # call's arrays had); the least CPU time of each.
+        n, k = a.gate
+        best = {"one": float("inf"), "rows": float("inf")}
+        for _ in range(max(1, k // 5)):
+            for case in best:
+                best[case] = min(best[case], timed(n, dtype, case, 5)[1])
+        print(json.dumps({case: cpu * 1e9 for case, cpu in best.items()}))
         return
 
     flags = ["--dtype", a.dtype] + (["--quick"] if a.quick else [])

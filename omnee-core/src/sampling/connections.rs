@@ -28,11 +28,6 @@ use crate::real::{ATAN_SQRT, Real, Vector, sin_cos_acute_f64, sinc_is_series, si
 /// numbers a lane) in arrays on the stack, 2.9 KiB in f32.
 pub const CHUNK: usize = 64;
 
-/// Lanes per turn when a SIMD loop alternates with the square roots it
-/// feeds (measured: 4 and 8 leave the SIMD loops' short trip counts to
-/// their scalar remainders; 16 and 32 are equal).
-const GROUP: usize = 16;
-
 /// Points, one slice per coordinate: point `i` is `(x[i], y[i], z[i])`.
 #[derive(Clone, Copy, Debug)]
 pub struct Points<'a, F> {
@@ -177,12 +172,11 @@ impl<F: Real, T: PhaseBatch<F>> PhaseBatch<F> for AnyPhase<F, T> {
 impl<F: Real> PhaseBatch<F> for HenyeyGreenstein<F> {
     /// In f32 the scalar inverse CDF (`HenyeyGreenstein::sample_pdf`) bit
     /// for bit, per [`CHUNK`] lanes: the versine numerators `a`, `b`, the
-    /// versines and the density four f32 lanes to a register; everything
-    /// of `θ = 2 atan2(√a, √b)` but its square root (`w = min/max(a, b)`,
-    /// the polynomial `Q(w)`, the octant) two f64 lanes to one; then `√w`
-    /// and θ lane by lane, the last two alternating by sixteen lanes so
-    /// that the square roots overlap the polynomials. In f64 the default,
-    /// one call per lane (its `atan2` is `libm`'s).
+    /// versines and the density four f32 lanes to a register; then
+    /// `θ = 2 atan2(√a, √b)` (`w = min/max(a, b)`, `√w`, the polynomial
+    /// `Q(w)`, the octant) two f64 lanes to one (`libm`'s f64 square root
+    /// is LLVM's intrinsic, `sqrtpd`). In f64 the default, one call per
+    /// lane (its `atan2` is `libm`'s).
     fn sample_ratio_batch(&self, u0: &[F], out: Deflections<'_, F>) {
         if !is_f32::<F>() {
             return sample_ratio_each(self, u0, out);
@@ -251,33 +245,23 @@ impl<F: Real> HenyeyGreenstein<F> {
             ratio[i] = F::ONE;
         }
         // θ = 2 atan2(√a, √b) as atan2_sqrt_f32 computes it in f64:
-        // w = min/max(a, b), ±Q(w) and the base 0 or π/2 (two f64 lanes to
-        // a register), then √w lane by lane, by turns of GROUP lanes.
-        let (mut w, mut signed_q, mut base) = ([0.0f64; CHUNK], [0.0f64; CHUNK], [0.0f64; CHUNK]);
-        let (w, signed_q, base) = (&mut w[..n], &mut signed_q[..n], &mut base[..n]);
+        // w = min/max(a, b), base ± √w Q(w) with the base 0 or π/2, two f64
+        // lanes to a register.
         let theta = &mut out.theta[..n];
-        let mut g = 0;
-        while g < n {
-            let end = n.min(g + GROUP);
-            for i in g..end {
-                let (a, b) = (f64::from(a[i]), f64::from(b[i]));
-                let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-                w[i] = lo
-                    / if hi > f64::MIN_POSITIVE {
-                        hi
-                    } else {
-                        f64::MIN_POSITIVE
-                    };
-                // sign(b − a) (+1 for a = b), base = (1 − sign) π/4.
-                let sign = if b >= a { 1.0 } else { -1.0 };
-                base[i] = (1.0 - sign) * core::f64::consts::FRAC_PI_4;
-                signed_q[i] = sign * atan_sqrt_ratio(w[i]);
-            }
-            for i in g..end {
-                let t = (base[i] + w[i].sqrt() * signed_q[i]) as f32;
-                theta[i] = F::from_f32(2.0 * t);
-            }
-            g = end;
+        for i in 0..n {
+            let (a, b) = (f64::from(a[i]), f64::from(b[i]));
+            let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+            let w = lo
+                / if hi > f64::MIN_POSITIVE {
+                    hi
+                } else {
+                    f64::MIN_POSITIVE
+                };
+            // sign(b − a) (+1 for a = b), base = (1 − sign) π/4.
+            let sign = if b >= a { 1.0 } else { -1.0 };
+            let base = (1.0 - sign) * core::f64::consts::FRAC_PI_4;
+            let t = (base + w.sqrt() * (sign * atan_sqrt_ratio(w))) as f32;
+            theta[i] = F::from_f32(2.0 * t);
         }
     }
 }
@@ -317,6 +301,19 @@ fn sample_ratio_each<F: Real, P: PhaseFunction<F> + ?Sized>(
     }
 }
 
+/// `√x` as [`Real::sqrt`] computes it, bit for bit, through f64's square
+/// root: in f32 the correctly rounded f64 root of the (exact) f64 value,
+/// rounded to f32, is the correctly rounded f32 root (53 ≥ 2·24 + 2 bits:
+/// the second rounding cannot cross a midpoint; Figueroa 1995, "When is
+/// double rounding innocuous?"; checked on all 2³² inputs). `libm`'s f32
+/// root is an instruction opaque to the compiler, taken lane by lane; its
+/// f64 root is LLVM's `sqrt` intrinsic, which LLVM, knowing the same fact,
+/// turns into the f32 one and vectorises (`sqrtps`, four lanes at a time).
+#[inline(always)]
+fn sqrt_via_f64<F: Real>(x: F) -> F {
+    F::from_f64(x.to_f64().sqrt())
+}
+
 /// Whether `F` is f32 (folded at compile time).
 #[inline(always)]
 fn is_f32<F: Real>() -> bool {
@@ -348,19 +345,19 @@ fn is_f32<F: Real>() -> bool {
 ///
 /// **How the f32 lanes get there fast.** The scalar sampler is bound by
 /// latency (one sample's chain of square roots, divisions and
-/// polynomials); written without branches it vectorises across lanes,
-/// except where it takes `libm`'s square roots, an opaque instruction to
-/// the compiler (stable `no_std` Rust has no other). So a chunk of
-/// [`CHUNK`] lanes goes through stages, each a loop over the chunk:
+/// polynomials); written without branches it vectorises across lanes.
+/// Its square roots too: `libm`'s f32 root is an opaque instruction to the
+/// compiler (stable `no_std` Rust has no other), its f64 root LLVM's
+/// intrinsic, and the f32 root is the f64 root of the same number rounded
+/// to f32, bit for bit. So a chunk of [`CHUNK`] lanes goes through stages,
+/// each a loop over the chunk:
 ///
 /// 1. the phase function's deflections ([`PhaseBatch`]; Henyey–Greenstein
-///    in f32 vectorised around the one square root of its `atan`, any
-///    other phase function one call per lane);
+///    in f32 vectorised, its `atan` in f64 lanes, any other phase function
+///    one call per lane);
 /// 2. the angles whose sines and cosines the f32 kernels take in f64 (the
-///    triangle's smaller angle, the azimuth) and the radicands of
-///    `s = |x2 − x0|` and `sin θ`, two f64 lanes to a register, alternating
-///    by sixteen lanes with the square roots lane by lane, so that the
-///    processor overlaps the two;
+///    triangle's smaller angle, the azimuth) and the square roots
+///    `s = |x2 − x0|` and `sin θ`, two f64 lanes to a register;
 /// 3. the frame, the triangle, `x1`, pdf and weight, branch-free, four f32
 ///    lanes to a register (SSE2);
 /// 4. the rare lane left to the scalar sampler (below).
@@ -665,8 +662,8 @@ impl<'a, F: Real> Connections<'a, F> {
         );
         // 2. The square roots: s = |x2 − x0| (glam's `length`, the dot
         //    product in its order) and sin θ = √((1 − cos θ)(1 + cos θ))
-        //    (`Deflection::sin`), the radicands branch-free, the roots
-        //    lane by lane.
+        //    (`Deflection::sin`), through f64; the sines and cosines of
+        //    the triangle's smaller angle and of the azimuth.
         let (x0, x2) = (&self.x0, &self.x2);
         let (ax, ay, az) = (
             &x0.x[range.clone()],
@@ -686,30 +683,22 @@ impl<'a, F: Real> Connections<'a, F> {
         let (sin_phi, cos_phi) = (&mut lanes.sin_phi[..n], &mut lanes.cos_phi[..n]);
         let scalar = &mut lanes.scalar[..n];
         let band = Unit::<F>::band();
-        let mut g = 0;
-        while g < n {
-            let end = n.min(g + GROUP);
-            for i in g..end {
-                let (dx, dy, dz) = (bx[i] - ax[i], by[i] - ay[i], bz[i] - az[i]);
-                s[i] = dx * dx + dy * dy + dz * dz;
-                sin_theta[i] = omc[i] * opc[i];
-                let r = u1[i];
-                // θ min(r, 1 − r) (`Triangle::solve_with_beta`; r ∈ [0, 1] or
-                // the lane is refused).
-                let small = theta[i] * if r <= F::ONE - r { r } else { F::ONE - r };
-                (sin_small[i], cos_small[i]) = small.sin_cos_acute();
-                (sin_phi[i], cos_phi[i], scalar[i]) = sin_cos_turn(u2[i]);
-            }
-            for i in g..end {
-                s[i] = s[i].sqrt();
-                sin_theta[i] = sin_theta[i].sqrt();
-                // A connection outside the band of unit 1 (docs/math.md
-                // §15.2) is drawn by the scalar sampler, which scales by L.
-                scalar[i] |= !(s[i] >= band.0 && s[i] < band.1);
-            }
-            g = end;
+        for i in 0..n {
+            let (dx, dy, dz) = (bx[i] - ax[i], by[i] - ay[i], bz[i] - az[i]);
+            s[i] = sqrt_via_f64(dx * dx + dy * dy + dz * dz);
+            sin_theta[i] = sqrt_via_f64(omc[i] * opc[i]);
+            let r = u1[i];
+            // θ min(r, 1 − r) (`Triangle::solve_with_beta`; r ∈ [0, 1] or
+            // the lane is refused).
+            let small = theta[i] * if r <= F::ONE - r { r } else { F::ONE - r };
+            (sin_small[i], cos_small[i]) = small.sin_cos_acute();
+            let (sin, cos, hard) = sin_cos_turn(u2[i]);
+            (sin_phi[i], cos_phi[i]) = (sin, cos);
+            // A connection outside the band of unit 1 (docs/math.md
+            // §15.2) is drawn by the scalar sampler, which scales by L.
+            scalar[i] = hard | !((s[i] >= band.0) & (s[i] < band.1));
         }
-        // 4. The rest of the geometry, branch-free.
+        // 3. The rest of the geometry, branch-free.
         let (pdf, ratio) = (&lanes.pdf[..n], &lanes.ratio[..n]);
         let (s, sin_theta) = (&lanes.s[..n], &lanes.sin_theta[..n]);
         let (omc, opc) = (&lanes.one_minus_cos[..n], &lanes.one_plus_cos[..n]);
@@ -756,7 +745,7 @@ impl<'a, F: Real> Connections<'a, F> {
         }
         // (Counted apart: a 64-bit sum in the loop halves its SIMD width.)
         let mut count = valid.iter().filter(|&&ok| ok).count();
-        // 5. The lanes the branch-free path leaves to the scalar sampler
+        // 4. The lanes the branch-free path leaves to the scalar sampler
         //    (rare: a scan for one, then the lanes).
         if !lanes.scalar[..n]
             .iter()
@@ -1233,6 +1222,25 @@ mod tests {
         }
         assert_eq!(count, expected);
         assert!(count > n / 2, "{count}");
+    }
+
+    #[test]
+    fn square_roots_through_f64_are_the_f32_roots() {
+        // Every 997th bit pattern up to +∞ (all 2³² were checked once),
+        // the edges, and NaN for what has no root.
+        let check = |x: f32| {
+            let (exact, via) = (Real::sqrt(x), sqrt_via_f64(x));
+            let same = exact.to_bits() == via.to_bits() || (exact.is_nan() && via.is_nan());
+            assert!(same, "{x:e}: {exact:e} against {via:e}");
+        };
+        (0..=f32::INFINITY.to_bits())
+            .step_by(997)
+            .for_each(|bits| check(f32::from_bits(bits)));
+        let edges = [0.0, -0.0, f32::from_bits(1), f32::MIN_POSITIVE, f32::MAX];
+        for x in edges.into_iter().chain([f32::INFINITY, -1.0, f32::NAN]) {
+            check(x);
+        }
+        assert_eq!(sqrt_via_f64(2.0f64), Real::sqrt(2.0f64));
     }
 
     #[test]
