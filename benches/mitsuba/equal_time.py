@@ -46,9 +46,9 @@ def render(mi, dr, scene_file, integrator, spp, seed, res):
     mi.render(scene, integrator=moment, spp=spp, seed=seed)
     dr.sync_thread()
     cpu = time.process_time() - start
-    layers = scene.sensors()[0].film().bitmap(raw=False).split()
-    mean = np.array(layers[1][1], copy=True).astype(np.float64)
-    m2 = np.array(layers[2][1], copy=True).astype(np.float64)
+    named = dict(scene.sensors()[0].film().bitmap(raw=False).split())
+    mean = np.array(named["nested"], copy=True).astype(np.float64)
+    m2 = np.array(named["m2_nested"], copy=True).astype(np.float64)
     return mean, np.maximum(m2 - mean * mean, 0.0), cpu
 
 

@@ -78,7 +78,8 @@ def _xyz(path: str) -> np.ndarray:
 
 def _moments(bitmap) -> Tuple[np.ndarray, np.ndarray]:
     """The mean and the per-sample variance of a film that a ``moment``
-    integrator wrote (its first two layers after the image itself), XYZ."""
+    integrator wrote (the layers ``NAME`` and ``m2_NAME`` besides the image
+    itself, ``NAME`` the nested integrator's name), XYZ."""
     layers = bitmap.split()
     if len(layers) < 3:
         raise RuntimeError("the scene's integrator is not wrapped in a moment integrator")
@@ -87,8 +88,20 @@ def _moments(bitmap) -> Tuple[np.ndarray, np.ndarray]:
         out = np.array(layer, copy=True).astype(np.float64)
         return out[..., np.newaxis] if out.ndim == 2 else out
 
-    mean, m2 = array(layers[1][1]), array(layers[2][1])
+    mean, m2 = moment_layers(layers)
+    mean, m2 = array(mean), array(m2)
     return mean, np.maximum(m2 - mean * mean, 0.0)
+
+
+def moment_layers(layers):
+    """The mean and second-moment bitmaps among ``Bitmap.split()``'s
+    ``(name, bitmap)`` pairs: ``NAME`` and ``m2_NAME`` (by name: the split
+    orders them by name, which puts ``m2_nested`` before ``nested``)."""
+    named = dict(layers)
+    for name in named:
+        if name.startswith("m2_") and name[3:] in named:
+            return named[name[3:]], named[name]
+    raise RuntimeError(f"no moment layers among {list(named)}")
 
 
 def p_values(mean: np.ndarray, spp: int, reference: np.ndarray, variance: np.ndarray) -> np.ndarray:
