@@ -254,10 +254,14 @@ const BATCH_CASES: [(f64, f64, [f64; 3], [f64; 3]); 2] = [
     (-0.6, FRAC_PI_2, [0.0, 0.0, 0.0], [0.0, 2.0, 0.0]),
 ];
 
+/// A ray's medium segment towards a light point: `x0`, the ray's origin
+/// and direction, `t_min`, `t_max`.
+pub type SegmentCase = ([f64; 3], [f64; 3], [f64; 3], f64, f64);
+
 /// The equiangular distance along a traced ray (`EquiangularSegment`):
-/// `x0`, the ray's origin and direction, `[t_min, t_max]`. `x0` off the
-/// ray, grazing it, on its line behind the segment, and an infinite segment.
-const SEGMENT_CASES: [([f64; 3], [f64; 3], [f64; 3], f64, f64); 4] = [
+/// `x0` off the ray, grazing it, on its line behind the segment, and an
+/// infinite segment.
+const SEGMENT_CASES: [SegmentCase; 4] = [
     ([0.0, 1.0, 1.0], [0.1, -0.2, 0.3], [0.0, 0.0, 1.0], 0.0, 2.0),
     ([1e-3, 0.0, 1.0], [0.0, 0.0, 0.0], [0.0, 0.0, 1.0], 0.2, 3.0),
     ([0.0, 0.0, -1.0], [0.0, 0.0, 0.0], [0.0, 0.0, 1.0], 0.0, 3.0),
@@ -492,7 +496,7 @@ fn phase_functions_sample_their_eval() {
 /// `t = t_a + w/(1 − w)` on an infinite one; expected counts by
 /// adaptive quadrature of `pdf(t)`, split at the foot of `x0`.
 pub fn segment_chi2(
-    (x0, origin, direction, t_min, t_max): ([f64; 3], [f64; 3], [f64; 3], f64, f64),
+    (x0, origin, direction, t_min, t_max): SegmentCase,
     samples: usize,
     seed: u64,
 ) -> Result<Chi2, String> {
