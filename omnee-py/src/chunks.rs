@@ -77,6 +77,7 @@ macro_rules! split_tuple {
 
 split_tuple!(B);
 split_tuple!(B, C);
+split_tuple!(B, C, D);
 split_tuple!(B, C, D, E);
 
 /// Runs `f(start, chunk)` over consecutive chunks of `all`, `start` being

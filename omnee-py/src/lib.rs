@@ -8,6 +8,8 @@
 //! - `Technique` (module `technique`) and its subclasses `Omnee`, `Equiangular`,
 //!   `Distance`, `Mis`: `sample(u)`, `pdf(x1)`, `invert(x1)` over arrays of
 //!   uniform tuples or points;
+//! - `EquiangularSegment` (module `segment`): the equiangular distance along
+//!   rays the caller traced, `sample(u)`, `pdf(t)`, `invert(t)`;
 //! - `estimate` (module `estimate`): the point-to-point integral of `omnee estimate`,
 //!   the same numbers for the same seed; with `vertices=K` (or `"auto"`) the
 //!   transfer of K scattering vertices by bridges;
@@ -31,6 +33,7 @@ mod error;
 mod estimate;
 mod kernel;
 mod phase;
+mod segment;
 mod technique;
 
 use pyo3::prelude::*;
@@ -45,6 +48,7 @@ fn _omnee(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<technique::Equiangular>()?;
     m.add_class::<technique::Distance>()?;
     m.add_class::<technique::Mis>()?;
+    m.add_class::<segment::EquiangularSegment>()?;
     m.add_class::<bridge::Bridge>()?;
     m.add_class::<bridge::VertexCount>()?;
     m.add_function(wrap_pyfunction!(estimate::estimate, m)?)?;

@@ -12,6 +12,7 @@ use omnee_core::phase::{Deflection, Phase as CorePhase, PhaseFunction};
 use omnee_render::phase::{PhaseSpec, TableStorage};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use pyo3::types::PyTuple;
 use std::hash::{Hash, Hasher};
 
 /// A phase function p(θ) of the deflection θ ∈ [0, π] between the incoming
@@ -233,8 +234,42 @@ impl Phase {
         format!("omnee.Phase({:?})", self.spec.to_string())
     }
 
-    fn __getnewargs__(&self) -> (String,) {
-        (self.spec.to_string(),)
+    /// A measured phase function from arrays (as Mitsuba's `tabphase`
+    /// holds one): `theta`, the `n + 1` bin edges in radians, strictly
+    /// increasing from 0 to π, and `values`, the `n` bin values (≥ 0, not
+    /// all 0), the density constant per solid angle within each bin:
+    /// `p(θ) = v_i / (2π Σ_j v_j (cos θ_j − cos θ_{j+1}))` on bin `i`. Its
+    /// `spec` is `table`.
+    #[staticmethod]
+    fn table(theta: Vec<f64>, values: Vec<f64>) -> PyResult<Self> {
+        Ok(Self {
+            spec: PhaseSpec::table(theta, values).map_err(error::render)?,
+        })
+    }
+
+    /// Pickles by value: the spec, or a table's bins.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        let class = py.get_type::<Phase>();
+        match self
+            .spec
+            .bins()
+            .filter(|_| self.spec.to_string() == "table")
+        {
+            Some((theta, values)) => PyTuple::new(
+                py,
+                [
+                    class.getattr("table")?,
+                    (theta, values).into_pyobject(py)?.into_any(),
+                ],
+            ),
+            None => PyTuple::new(
+                py,
+                [
+                    class.into_any(),
+                    (self.spec.to_string(),).into_pyobject(py)?.into_any(),
+                ],
+            ),
+        }
     }
 
     /// Equal by value: the same kind of phase function with the same

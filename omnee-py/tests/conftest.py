@@ -12,8 +12,8 @@ from scipy import stats
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 
-# Every χ² test runs at this level; the suite has 23 of them, so a correct
-# implementation fails one with probability below 23 · 4e-6 = 9.2e-5
+# Every χ² test runs at this level; the suite has 24 of them, so a correct
+# implementation fails one with probability below 24 · 4e-6 = 9.6e-5
 # (Bonferroni over the family), whatever the seeds; the 5σ unbiasedness
 # tests add 6 · 5.7e-7.
 CHI2_LEVEL = 4e-6

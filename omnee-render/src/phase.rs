@@ -207,6 +207,40 @@ impl PhaseSpec {
         Ok(spec)
     }
 
+    /// A measured table given as arrays, as a renderer that holds its own
+    /// tables hands it over: `theta`, the `n + 1` bin edges in radians
+    /// (strictly increasing from 0 to π), and `values`, the `n` bin values
+    /// (≥ 0, not all 0; the density is constant per solid angle within a
+    /// bin and normalised by the core, [`Tabulated`]). Checked as a
+    /// `table:` file is; its spec text is `table`.
+    pub fn table(theta: Vec<f64>, values: Vec<f64>) -> Result<Self> {
+        // The last edge is set to π in each precision when the table is
+        // built (a file's ends at 180°); a caller's array must end there.
+        if let Some(&last) = theta.last() {
+            let pi = std::f64::consts::PI;
+            if !((last - pi).abs() <= 4.0 * f64::EPSILON * pi) {
+                return Err(RenderError::Input(format!(
+                    "phase table: theta: the last edge is {last}; allowed: pi (the bins cover [0, pi])"
+                )));
+            }
+        }
+        let spec = Self {
+            text: "table".to_string(),
+            table: Some((theta, values)),
+        };
+        spec.instantiate::<f32>(&mut TableStorage::default())?;
+        spec.instantiate::<f64>(&mut TableStorage::default())?;
+        Ok(spec)
+    }
+
+    /// The bin edges (radians) and values of a table, `None` for the
+    /// analytic phase functions.
+    pub fn bins(&self) -> Option<(&[f64], &[f64])> {
+        self.table
+            .as_ref()
+            .map(|(theta, values)| (theta.as_slice(), values.as_slice()))
+    }
+
     /// The phase function in precision `F`, borrowing `storage` for a table.
     pub fn instantiate<'a, F: Real>(
         &self,

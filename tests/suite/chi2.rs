@@ -34,7 +34,9 @@ use glam::DVec3;
 use omnee::medium::Region;
 use omnee::mis::{Heuristic, OneSample};
 use omnee::phase::Deflection;
-use omnee::sampling::{Connection, Directions, Distance, Equiangular, Omnee, Technique};
+use omnee::sampling::{
+    Connection, Directions, Distance, Equiangular, EquiangularSegment, Omnee, Technique,
+};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// The phase functions tested in 1-D.
@@ -252,8 +254,29 @@ const BATCH_CASES: [(f64, f64, [f64; 3], [f64; 3]); 2] = [
     (-0.6, FRAC_PI_2, [0.0, 0.0, 0.0], [0.0, 2.0, 0.0]),
 ];
 
+/// A ray's medium segment towards a light point: `x0`, the ray's origin
+/// and direction, `t_min`, `t_max`.
+pub type SegmentCase = ([f64; 3], [f64; 3], [f64; 3], f64, f64);
+
+/// The equiangular distance along a traced ray (`EquiangularSegment`):
+/// `x0` off the ray, grazing it, on its line behind the segment, and an
+/// infinite segment.
+const SEGMENT_CASES: [SegmentCase; 4] = [
+    ([0.0, 1.0, 1.0], [0.1, -0.2, 0.3], [0.0, 0.0, 1.0], 0.0, 2.0),
+    ([1e-3, 0.0, 1.0], [0.0, 0.0, 0.0], [0.0, 0.0, 1.0], 0.2, 3.0),
+    ([0.0, 0.0, -1.0], [0.0, 0.0, 0.0], [0.0, 0.0, 1.0], 0.0, 3.0),
+    (
+        [2.0, 1.0, 0.5],
+        [0.1, -0.2, 0.3],
+        [1.0, 1.0, 0.0],
+        0.5,
+        f64::INFINITY,
+    ),
+];
+
 /// Every χ² test of the suite (the Šidák family).
 const TESTS: usize = PHASES.len()
+    + SEGMENT_CASES.len()
     + OMNEE_CASES.len()
     + EQUIANGULAR_CASES.len()
     + DISTANCE_CASES.len()
@@ -464,6 +487,75 @@ fn phase_functions_sample_their_eval() {
             std::time::Instant::now(),
             &format!("{spec:?}"),
             phase_chi2(spec, PHASE_SAMPLES, 1000 + i as u64),
+        );
+    }
+}
+
+/// A 1-D χ² test of the distance along a traced ray against its `pdf`:
+/// 100 cells uniform in `w`, `t = t_a + (t_b − t_a) w` on a finite segment,
+/// `t = t_a + w/(1 − w)` on an infinite one; expected counts by
+/// adaptive quadrature of `pdf(t)`, split at the foot of `x0`.
+pub fn segment_chi2(
+    (x0, origin, direction, t_min, t_max): SegmentCase,
+    samples: usize,
+    seed: u64,
+) -> Result<Chi2, String> {
+    const CELLS: usize = 100;
+    let s = EquiangularSegment::new(v(x0), v(origin), v(direction), t_min, t_max)
+        .map_err(|e| e.to_string())?;
+    // t(w) and dt/dw on w ∈ [0, 1].
+    let to_t = |w: f64| {
+        if t_max.is_finite() {
+            (t_min + (t_max - t_min) * w, t_max - t_min)
+        } else {
+            (t_min + w / (1.0 - w), 1.0 / ((1.0 - w) * (1.0 - w)))
+        }
+    };
+    let edges: Vec<f64> = (0..=CELLS)
+        .map(|i| to_t(i as f64 / CELLS as f64).0)
+        .collect();
+    let mut observed = vec![0.0; CELLS + 1];
+    let mut rng = Rng::new(seed);
+    for _ in 0..samples {
+        let Some(d) = s.sample(rng.uniform()) else {
+            observed[CELLS] += 1.0;
+            continue;
+        };
+        if !(d.t >= t_min && d.t <= t_max && d.pdf > 0.0 && d.pdf.is_finite()) {
+            return Err(format!("sample {d:?}"));
+        }
+        observed[cell(&edges, d.t)] += 1.0;
+    }
+    let n = samples as f64;
+    // The foot of x0 in w, where the density peaks.
+    let foot = (v(x0) - v(origin)).dot(v(direction).normalize());
+    let foot_w = if t_max.is_finite() {
+        (foot - t_min) / (t_max - t_min)
+    } else {
+        (foot - t_min) / (foot - t_min + 1.0)
+    };
+    let density = |w: f64| {
+        let (t, dt) = to_t(w);
+        if w < 1.0 { s.pdf(t) * dt } else { 0.0 }
+    };
+    let mut expected: Vec<f64> = (0..CELLS)
+        .map(|i| {
+            let (a, b) = (i as f64 / CELLS as f64, (i + 1) as f64 / CELLS as f64);
+            n * integrate_pieces(density, a, b, &[foot_w], 1e-10, 1e-15)
+        })
+        .collect();
+    let mass: f64 = expected.iter().sum();
+    expected.push(n - mass);
+    chi2(&observed, &expected, 1e-6 * n)
+}
+
+#[test]
+fn equiangular_segments_sample_their_pdf() {
+    for (i, case) in SEGMENT_CASES.into_iter().enumerate() {
+        check(
+            std::time::Instant::now(),
+            &format!("equiangular segment {case:?}"),
+            segment_chi2(case, PHASE_SAMPLES, 1500 + i as u64),
         );
     }
 }

@@ -1,7 +1,11 @@
 //! Equiangular sampling (Kulla & Fajardo 2012) along a ray from the receiver:
-//! the baseline OMNEE is measured against.
+//! the baseline OMNEE is measured against, and the distance sampler of
+//! renderers that trace their own rays ([`EquiangularSegment`]).
 
-use super::{Connection, Directions, Sample, Technique, Unit, Vertex, in_unit, saturate};
+use super::{
+    Connection, Directions, Sample, Technique, Unit, Vertex, in_unit, saturate, unit_normal,
+};
+use crate::error::Error;
 use crate::medium::Region;
 use crate::phase::{Deflection, PhaseFunction};
 use crate::real::{Real, Vector};
@@ -159,6 +163,125 @@ impl<F: Real> Line<F> {
             from_a / v
         };
         xi.clamp_to(F::ZERO, F::ONE)
+    }
+}
+
+/// Equiangular sampling of the distance along a ray the caller traced: the
+/// one-dimensional part of [`Equiangular`], for a renderer that draws the
+/// direction ω itself (from a BSDF or a phase function) and finds the medium
+/// segment `[t_a, t_b]` by intersecting its scene.
+///
+/// Along `x(t) = origin + t ω`, with `d1(t) = |x(t) − x0|`, the density is
+///
+/// `pdf(t) = c / d1(t)²`, `c = D / (θ_b − θ_a)` on `[t_a, t_b]`, else 0,
+///
+/// with `D` the distance of `x0` from the ray's line and `θ_b − θ_a` the
+/// angle the segment subtends at `x0` (one `atan2`; `c = ab/(b − a)` for
+/// `x0` on the line, [`Equiangular`]'s formulas). The caller's vertex then
+/// has the volume density `pdf_ω(ω) pdf(t) / t²` about `origin`.
+///
+/// Lengths are computed in the power-of-two [`Unit`] of `|x0 − origin|`, so
+/// scaling the whole problem by `2ᵏ` scales `t` by `2ᵏ` and the density by
+/// `2⁻ᵏ` exactly, at any finite scale.
+#[derive(Clone, Copy, Debug)]
+pub struct EquiangularSegment<F: Real> {
+    /// The unit in which `line` is measured.
+    unit: Unit<F>,
+    /// The ray's line relative to the foot of `x0`, in the unit.
+    line: Line<F>,
+}
+
+/// A distance drawn along a ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DistanceSample<F> {
+    /// The distance `t` from the ray's origin (m).
+    pub t: F,
+    /// Its density per metre (finite: saturates at `F::MAX`).
+    pub pdf: F,
+}
+
+impl<F: Real> EquiangularSegment<F> {
+    /// The segment `[t_min, t_max]` of the ray `origin + t ω` (ω of any
+    /// finite non-zero length; normalised here), sampled towards `x0`.
+    /// `t_min` ∈ [0, `F::MAX`], `t_max` ∈ (`t_min`, ∞] (∞: the ray never
+    /// leaves the medium). Fails on non-finite points, a zero direction, and
+    /// where `x0` lies on the segment itself (the density would be a δ).
+    pub fn new(
+        x0: F::Vec3,
+        origin: F::Vec3,
+        direction: F::Vec3,
+        t_min: F,
+        t_max: F,
+    ) -> Result<Self, Error> {
+        if !x0.is_finite() {
+            return Err(Error::not_finite("x0"));
+        }
+        if !origin.is_finite() {
+            return Err(Error::not_finite("origin"));
+        }
+        let omega = unit_normal::<F>(direction, "direction")?;
+        if !(t_min >= F::ZERO && t_min.is_finite()) {
+            return Err(Error::OutOfRange {
+                field: "t_min",
+                value: t_min.to_f64(),
+                allowed: "[0, max]",
+            });
+        }
+        if !(t_max > t_min) {
+            return Err(Error::OutOfRange {
+                field: "t_max",
+                value: t_max.to_f64(),
+                allowed: "(t_min, inf]",
+            });
+        }
+        let to_light = x0 - origin;
+        let unit = Unit::of(to_light.length());
+        let inverse = unit.inverse;
+        let line = Line::new(
+            to_light * inverse,
+            omega,
+            (t_min * inverse, t_max * inverse),
+        )
+        .ok_or(Error::Degenerate {
+            field: "x0",
+            reason: "lies on the ray inside the segment",
+        })?;
+        Ok(Self { unit, line })
+    }
+
+    /// `t = Δ + D tan(θ_a + u (θ_b − θ_a))`, formed without cancellation from
+    /// the nearer end of the segment, and `pdf(t)`; `u` is clamped to
+    /// [0, 1] (NaN to 0). `None` where `t` is not a finite number of metres
+    /// (`u = 1` on an infinite segment).
+    pub fn sample(&self, u: F) -> Option<DistanceSample<F>> {
+        let (t, v) = self.line.distance(u.clamp_to(F::ZERO, F::ONE));
+        let t = self.unit.to_metres(t);
+        t.is_finite().then(|| DistanceSample {
+            t,
+            pdf: self.density(v),
+        })
+    }
+
+    /// `pdf(t) = c / d1(t)²` per metre inside `[t_min, t_max]`, else 0.
+    pub fn pdf(&self, t: F) -> F {
+        let t = t * self.unit.inverse;
+        if !(t >= self.line.ta && t <= self.line.tb) {
+            return F::ZERO;
+        }
+        self.density(t - (self.line.ta - self.line.a))
+    }
+
+    /// The `u` that [`sample`](Self::sample) maps to `t`:
+    /// `u = atan2(D (t − t_a), D² + a v) / (θ_b − θ_a)` (clamped to [0, 1]).
+    pub fn invert(&self, t: F) -> F {
+        self.line.invert(t * self.unit.inverse)
+    }
+
+    /// `c / (D² + v²)` in metres⁻¹ for the offset `v` from the foot of `x0`
+    /// (in the unit).
+    fn density(&self, v: F) -> F {
+        let d = self.line.dist;
+        saturate(self.line.c / (d * d + v * v) * self.unit.inverse)
     }
 }
 

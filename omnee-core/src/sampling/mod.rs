@@ -40,7 +40,7 @@ pub use connections::{
 pub use directions::{Directions, unit_normal};
 pub use distance::Distance;
 pub use draw::Draw;
-pub use equiangular::Equiangular;
+pub use equiangular::{DistanceSample, Equiangular, EquiangularSegment};
 pub use omnee::Omnee;
 
 pub use crate::circumcircle::Unit;

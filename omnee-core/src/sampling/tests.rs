@@ -816,3 +816,158 @@ fn densities_at_a_vertex_keep_their_digits_next_to_the_end_points() {
     assert!(checked > 100);
     assert!(at_vertex < 1e-4, "{at_vertex:e}");
 }
+
+/// Segments of the ray sampler: `x0` off the ray, next to it, on its line
+/// behind and ahead of the segment, an infinite segment, and a segment that
+/// starts past the foot of `x0`.
+fn segments() -> [(DVec3, DVec3, DVec3, f64, f64); 6] {
+    let o = DVec3::new(0.1, -0.2, 0.3);
+    [
+        (
+            DVec3::new(0.0, 1.0, 1.0),
+            o,
+            DVec3::new(0.0, 0.0, 1.0),
+            0.0,
+            2.0,
+        ),
+        (DVec3::new(1e-4, 0.0, 1.0), DVec3::ZERO, DVec3::Z, 0.0, 3.0),
+        (DVec3::new(0.0, 0.0, -1.0), DVec3::ZERO, DVec3::Z, 0.0, 3.0),
+        (DVec3::new(0.0, 0.0, 5.0), DVec3::ZERO, DVec3::Z, 0.5, 3.0),
+        (
+            DVec3::new(2.0, 1.0, 0.5),
+            o,
+            DVec3::new(1.0, 1.0, 0.0),
+            0.0,
+            f64::INFINITY,
+        ),
+        (
+            DVec3::new(0.0, 0.3, 0.0),
+            DVec3::ZERO,
+            DVec3::new(0.0, 0.0, -2.0),
+            1.5,
+            4.0,
+        ),
+    ]
+}
+
+#[test]
+fn equiangular_segment_pdf_integrates_to_one_and_is_sampled_exactly() {
+    use crate::quadrature::integrate;
+    for (x0, o, w, ta, tb) in segments() {
+        let s = EquiangularSegment::new(x0, o, w, ta, tb).unwrap();
+        // ∫ pdf = 1 over the segment (an infinite one mapped by t = ta + x/(1 − x)).
+        let total = if tb.is_finite() {
+            integrate(|t| s.pdf(t), ta, tb, 1e-12, 0.0)
+        } else {
+            integrate(
+                |x| s.pdf(ta + x / (1.0 - x)) / ((1.0 - x) * (1.0 - x)),
+                0.0,
+                1.0,
+                1e-12,
+                0.0,
+            )
+        };
+        assert!(
+            (total - 1.0).abs() < 1e-8,
+            "{x0} {o} {w} [{ta}, {tb}]: ∫ pdf = {total}"
+        );
+        assert_eq!(s.pdf(ta - 1e-3), 0.0);
+        if tb.is_finite() {
+            assert_eq!(s.pdf(tb * (1.0 + 1e-9) + 1e-9), 0.0);
+        }
+        let mut rng = SplitMix64::new(11);
+        for i in 0..2000 {
+            let u = if i < 2 {
+                i as f64
+            } else {
+                uniform::<f64, _>(&mut rng)
+            };
+            let Some(d) = s.sample(u) else {
+                assert!(u == 1.0 && tb.is_infinite(), "u = {u}: no sample");
+                continue;
+            };
+            assert!(d.t >= ta && d.t <= tb && d.t.is_finite(), "u = {u}: {d:?}");
+            // The density it returns is pdf(t), and dt/du = 1/pdf (the
+            // inverse CDF's derivative, by central differences).
+            let pdf = s.pdf(d.t);
+            assert!(
+                (d.pdf - pdf).abs() <= 1e-9 * pdf,
+                "u = {u}: {} vs {pdf}",
+                d.pdf
+            );
+            if u > 1e-3 && u < 1.0 - 1e-3 {
+                let h = 1e-6;
+                let dt = (s.sample(u + h).unwrap().t - s.sample(u - h).unwrap().t) / (2.0 * h);
+                assert!(
+                    (dt * pdf - 1.0).abs() < 1e-5,
+                    "u = {u}: dt/du · pdf = {}",
+                    dt * pdf
+                );
+                let back = s.invert(d.t);
+                assert!((back - u).abs() < 1e-9, "u = {u} → t = {} → {back}", d.t);
+            }
+        }
+    }
+}
+
+#[test]
+fn equiangular_segment_scales_exactly_and_refuses_bad_input() {
+    let (x0, o, w) = (
+        DVec3::new(0.3, 0.7, 1.1),
+        DVec3::new(-0.2, 0.1, 0.0),
+        DVec3::X,
+    );
+    let one = EquiangularSegment::new(x0, o, w, 0.25, 2.0).unwrap();
+    for k in [-1000, -300, -40, 40, 300, 1000] {
+        let l = 2f64.powi(k);
+        let scaled = EquiangularSegment::new(x0 * l, o * l, w, 0.25 * l, 2.0 * l).unwrap();
+        for u in [0.0, 0.1, 0.5, 0.9, 1.0] {
+            let (a, b) = (one.sample(u).unwrap(), scaled.sample(u).unwrap());
+            assert_eq!(b.t, a.t * l, "2^{k}, u = {u}");
+            assert_eq!(b.pdf, a.pdf / l, "2^{k}, u = {u}");
+            assert_eq!(scaled.invert(b.t), one.invert(a.t), "2^{k}, u = {u}");
+        }
+    }
+    // f32 agrees with f64.
+    let f =
+        EquiangularSegment::<f32>::new(x0.as_vec3(), o.as_vec3(), w.as_vec3(), 0.25, 2.0).unwrap();
+    for u in [0.0f32, 0.3, 0.77, 1.0] {
+        let (a, b) = (one.sample(f64::from(u)).unwrap(), f.sample(u).unwrap());
+        assert!((f64::from(b.t) - a.t).abs() < 1e-6 * a.t, "{a:?} {b:?}");
+        assert!(
+            (f64::from(b.pdf) - a.pdf).abs() < 1e-5 * a.pdf,
+            "{a:?} {b:?}"
+        );
+    }
+    let nan = DVec3::new(f64::NAN, 0.0, 0.0);
+    let err = |r: Result<EquiangularSegment<f64>, crate::Error>| r.unwrap_err().field();
+    assert_eq!(err(EquiangularSegment::new(nan, o, w, 0.0, 1.0)), "x0");
+    assert_eq!(err(EquiangularSegment::new(x0, nan, w, 0.0, 1.0)), "origin");
+    assert_eq!(
+        err(EquiangularSegment::new(x0, o, DVec3::ZERO, 0.0, 1.0)),
+        "direction"
+    );
+    assert_eq!(err(EquiangularSegment::new(x0, o, w, -1.0, 1.0)), "t_min");
+    assert_eq!(
+        err(EquiangularSegment::new(x0, o, w, f64::NAN, 1.0)),
+        "t_min"
+    );
+    assert_eq!(err(EquiangularSegment::new(x0, o, w, 1.0, 1.0)), "t_max");
+    assert_eq!(
+        err(EquiangularSegment::new(x0, o, w, 0.0, f64::NAN)),
+        "t_max"
+    );
+    // x0 on the segment itself.
+    assert_eq!(
+        err(EquiangularSegment::new(DVec3::X, DVec3::ZERO, w, 0.0, 2.0)),
+        "x0"
+    );
+    // Any u: clamped, never NaN.
+    for u in [f64::NAN, -1.0, 2.0, f64::INFINITY] {
+        let d = one.sample(u).unwrap();
+        assert!(
+            d.t.is_finite() && d.pdf.is_finite() && d.pdf > 0.0,
+            "u = {u}: {d:?}"
+        );
+    }
+}

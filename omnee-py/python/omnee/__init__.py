@@ -68,6 +68,7 @@ from ._omnee import (
     Bridge,
     Distance,
     Equiangular,
+    EquiangularSegment,
     Mis,
     NotConvergedError,
     Omnee,
@@ -86,6 +87,7 @@ __all__ = [
     "Equiangular",
     "Distance",
     "Mis",
+    "EquiangularSegment",
     "estimate",
     "Bridge",
     "VertexCount",
@@ -94,6 +96,7 @@ __all__ = [
     "BridgeSamples",
     "Samples",
     "Inversion",
+    "DistanceSamples",
     "Estimate",
     "__version__",
 ]
@@ -153,6 +156,19 @@ class Inversion(NamedTuple):
     """The uniform numbers."""
     valid: np.ndarray
     """Whether ``x1`` has a preimage (bool)."""
+
+
+class DistanceSamples(NamedTuple):
+    """What ``EquiangularSegment.sample(u)`` returns, each of ``u``'s shape."""
+
+    t: np.ndarray
+    """The distance along the ray (m); 0 where ``valid`` is False."""
+    pdf: np.ndarray
+    """Its density per metre, finite (saturating at the dtype's max); 0 where
+    ``valid`` is False."""
+    valid: np.ndarray
+    """Whether ``u`` gave a finite distance (False only for ``u = 1`` on an
+    infinite segment)."""
 
 
 class Estimate(NamedTuple):

@@ -14,7 +14,7 @@ import numpy as np
 import numpy.typing as npt
 from typing_extensions import disjoint_base
 
-from . import BridgeSamples, Estimate, Inversion, Samples
+from . import BridgeSamples, DistanceSamples, Estimate, Inversion, Samples
 
 __all__ = [
     "Phase",
@@ -23,6 +23,7 @@ __all__ = [
     "Equiangular",
     "Distance",
     "Mis",
+    "EquiangularSegment",
     "estimate",
     "Bridge",
     "VertexCount",
@@ -62,7 +63,16 @@ class Phase:
     """
 
     def __new__(cls, spec: str) -> Phase: ...
-    def __getnewargs__(self) -> Tuple[str]: ...
+    @staticmethod
+    def table(theta: _ArrayLike, values: _ArrayLike) -> Phase:
+        """A measured phase function from arrays (as Mitsuba's ``tabphase``
+        holds one): ``theta``, the ``n + 1`` bin edges in radians, strictly
+        increasing from 0 to π, and ``values``, the ``n`` bin values (≥ 0, not
+        all 0), the density constant per solid angle within each bin:
+        ``p(θ) = v_i / (2π Σ_j v_j (cos θ_j − cos θ_{j+1}))`` on bin ``i``. Its
+        ``spec`` is ``table``. Raises ValueError naming ``theta`` or
+        ``values`` for tables of the wrong shape."""
+    def __reduce__(self) -> Tuple[Any, Tuple[Any, ...]]: ...
     @property
     def spec(self) -> str:
         """The spec string."""
@@ -219,6 +229,45 @@ class Mis(Technique):
         normal: Optional[_Point] = None,
         slab: Optional[Tuple[float, float]] = None,
     ) -> Mis: ...
+
+@final
+class EquiangularSegment:
+    """Equiangular sampling of the distance ``t`` along rays
+    ``origin + t · direction`` restricted to their medium segments
+    ``[t_min, t_max]``, towards a light point ``x0`` (Kulla & Fajardo 2012):
+    ``pdf(t) = c / d1(t)²`` with ``d1 = |origin + t ω − x0|`` and
+    ``c = D/(θ_b − θ_a)`` (``D`` the distance of ``x0`` from the ray's line,
+    ``θ_b − θ_a`` the angle the segment subtends at ``x0``). The distance
+    sampler of a renderer that draws its ray directions itself (BSDF, phase
+    function) and finds the segment by tracing; the vertex's volume density
+    about ``origin`` is ``pdf_ω(ω) · pdf(t) / t²``.
+
+    ``x0``, ``origin``, ``direction`` (any non-zero length): ``(3,)`` or
+    ``(N, 3)``; ``t_min`` ∈ [0, ∞), ``t_max`` ∈ (t_min, ∞]: a number or
+    ``(N,)``. With any argument per row, the first axis of ``u`` and ``t`` is
+    the row. Raises ValueError naming the argument (and the row) for
+    non-finite points, a zero direction, bad bounds, and ``x0`` on the
+    segment itself."""
+
+    def __new__(
+        cls,
+        x0: _Point,
+        origin: _Point,
+        direction: _Point,
+        t_min: _ArrayLike = 0.0,
+        t_max: _ArrayLike = ...,
+    ) -> EquiangularSegment: ...
+    def sample(self, u: _ArrayLike) -> DistanceSamples:
+        """``t = Δ + D tan(θ_a + u (θ_b − θ_a))`` from ``u`` ∈ [0, 1]:
+        ``DistanceSamples(t, pdf, valid)``."""
+    def pdf(self, t: _ArrayLike) -> Any:
+        """``pdf(t)`` per metre, 0 outside the segment."""
+    def invert(self, t: _ArrayLike) -> Any:
+        """The ``u`` that ``sample`` maps to ``t``
+        (``atan2(D (t − t_a), D² + a v)/(θ_b − θ_a)``, clamped to [0, 1])."""
+    @property
+    def rows(self) -> Optional[int]:
+        """The number of rays given per row, or None for one."""
 
 def estimate(
     *,
