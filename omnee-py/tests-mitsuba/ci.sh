@@ -6,7 +6,8 @@
 #     DRJIT_LIBLLVM_PATH (installed here if missing);
 #  2. a fresh venv with the pinned Mitsuba and Dr.Jit (requirements.txt) and
 #     omnee: the wheel WHEEL if given (dist/build.sh's), else ./omnee-py;
-#  3. the integrator's tests (test_integrator.py) and Mitsuba's render test
+#  3. the integrator's tests (test_integrator.py), the docs' examples
+#     (test_docs.py) and Mitsuba's render test
 #     on a pinned few of the scenes in scenes/ (2·10⁶ samples each; the
 #     whole set: run pytest without OMNEE_MITSUBA_SCENES). The few are
 #     those that pass with room: `fog_point_hg90` and `grid_point` pass at
@@ -44,5 +45,5 @@ step "the integrator's tests and the render test on the pinned scenes"
 cd omnee-py/tests-mitsuba
 OMNEE_MITSUBA_REQUIRED=1 \
 OMNEE_MITSUBA_SCENES="${OMNEE_MITSUBA_SCENES:-camera_in_fog_point,fog_area_tthg,fog_area_hg98,envmap_iso}" \
-  "$venv/bin/python" -m pytest -q -p no:cacheprovider test_integrator.py test_renders.py
+  "$venv/bin/python" -m pytest -q -p no:cacheprovider test_integrator.py test_docs.py test_renders.py
 step "done"
