@@ -30,31 +30,53 @@ def rows(index: Any, *arrays: Any, dtype: Any = np.float32) -> List[np.ndarray]:
     dr.eval(gathered)
     out = []
     for g in gathered:
-        values = np.asarray(g, dtype=dtype)
-        out.append(np.ascontiguousarray(values.T) if values.ndim == 2 else values)
+        # Component by component: numpy reads an evaluated mi.Float in
+        # place, while a 3-vector would be packed by a kernel with the row
+        # count compiled in (a new kernel for every batch size).
+        if dr.size_v(g) == 3:
+            out.append(np.stack([np.asarray(g[i], dtype=dtype) for i in range(3)], axis=1))
+        else:
+            out.append(np.asarray(g, dtype=dtype))
     return out
 
 
-def _put(width: int, index: Any, values: np.ndarray, kind: Any) -> Any:
-    out = dr.zeros(kind, width)
-    dr.scatter(out, kind(values), index)
+def _jit(kind: Any, values: Any, dtype: Any) -> Any:
+    """A Dr.Jit array of the 1-D ``values``, copied to a 64-byte aligned
+    numpy buffer first. Dr.Jit maps numpy memory rather than copying it and
+    compiles the pointer's alignment into the kernels that read it (and a
+    2-D array's row length as a literal): from aligned 1-D buffers the
+    kernels are the same for every batch size and allocation, so a new
+    seed or image does not compile them again."""
+    values = np.asarray(values, dtype=dtype).ravel()
+    pad = 64 // values.itemsize
+    buffer = np.empty(values.size + pad, dtype=dtype)
+    start = (-buffer.ctypes.data % 64) // values.itemsize
+    aligned = buffer[start:start + values.size]
+    aligned[...] = values
+    return kind(aligned)
+
+
+def _put(width: int, index: Any, value: Any) -> Any:
+    out = dr.zeros(type(value), width)
+    dr.scatter(out, value, index)
     return out
 
 
 def floats(width: int, index: Any, values: Any) -> Any:
     """``values`` (``(k,)``) at lanes ``index`` of a zero ``mi.Float`` of
     ``width``."""
-    return _put(width, index, np.ascontiguousarray(values, dtype=np.float32), mi.Float)
+    return _put(width, index, _jit(mi.Float, values, np.float32))
 
 
 def points(width: int, index: Any, values: Any) -> Any:
     """``values`` (``(k, 3)``) at lanes ``index`` of a zero ``mi.Point3f``."""
-    return _put(width, index, np.ascontiguousarray(np.asarray(values, dtype=np.float32).T), mi.Point3f)
+    v = np.asarray(values, dtype=np.float32)
+    return _put(width, index, mi.Point3f(*(_jit(mi.Float, v[:, i], np.float32) for i in range(3))))
 
 
 def mask(width: int, index: Any, values: Any) -> Any:
     """``values`` (bool ``(k,)``) at lanes ``index`` of a false ``mi.Bool``."""
-    return _put(width, index, np.ascontiguousarray(values, dtype=bool), mi.Bool)
+    return _put(width, index, _jit(mi.Bool, values, bool))
 
 
 def connectable(x0: Any, x2: Any) -> Any:
@@ -90,6 +112,13 @@ def _rows_accepted(call: Any, arrays: Sequence[np.ndarray]) -> Tuple[np.ndarray,
     raise RuntimeError("the omnee core refused more rows than expected")
 
 
+def _kept(index: Any, kept: np.ndarray) -> Any:
+    """The lanes of ``index`` whose rows :func:`_rows_accepted` kept."""
+    if len(kept) == dr.width(index):
+        return index
+    return dr.gather(mi.UInt32, index, _jit(mi.UInt32, kept, np.uint32))
+
+
 def omnee_draw(groups: Sequence[Any], group: Any, x0: Any, x2: Any, u: Any, active: Any) -> Tuple[Any, Any, Any]:
     """OMNEE's vertex ``x1`` for every active lane, drawn by the core's
     batch over connections (float32) with its group's phase function:
@@ -105,7 +134,7 @@ def omnee_draw(groups: Sequence[Any], group: Any, x0: Any, x2: Any, u: Any, acti
             continue
         kept, s = _rows_accepted(lambda a, b, uu: omnee.Omnee(x0=a, x2=b, phase=grp.phase).sample(uu),
                                  rows(index, x0, x2, u))
-        index = dr.gather(mi.UInt32, index, mi.UInt32(kept))
+        index = _kept(index, kept)
         x1 += points(width, index, s.x1)
         pdf += floats(width, index, s.pdf)
         valid |= mask(width, index, s.valid)
@@ -124,8 +153,7 @@ def omnee_pdf(groups: Sequence[Any], group: Any, x0: Any, x2: Any, x1: Any, acti
             continue
         kept, values = _rows_accepted(lambda a, b, c: omnee.Omnee(x0=a, x2=b, phase=grp.phase).pdf(c),
                                       rows(index, x0, x2, x1))
-        pdf += floats(width, index if len(kept) == dr.width(index) else
-                      dr.gather(mi.UInt32, index, mi.UInt32(kept)), values)
+        pdf += floats(width, _kept(index, kept), values)
     return pdf
 
 
@@ -159,7 +187,7 @@ def equiangular_draw(x0: Any, origin: Any, direction: Any, t_max: Any, u: Any, a
         return t, pdf, dr.zeros(mi.Bool, width)
     kept, s = _rows_accepted(lambda a, o, d, hi, uu: omnee.EquiangularSegment(a, o, d, 0.0, hi).sample(uu),
                              rows(index, x0, origin, direction, mi.Float(t_max), u, dtype=np.float64))
-    index = dr.gather(mi.UInt32, index, mi.UInt32(kept))
+    index = _kept(index, kept)
     return floats(width, index, s.t), floats(width, index, s.pdf), mask(width, index, s.valid)
 
 
@@ -173,4 +201,4 @@ def equiangular_pdf(x0: Any, origin: Any, direction: Any, t_min: Any, t_max: Any
     kept, values = _rows_accepted(
         lambda a, o, d, lo, hi, tt: omnee.EquiangularSegment(a, o, d, lo, hi).pdf(tt),
         rows(index, x0, origin, direction, mi.Float(t_min), mi.Float(t_max), mi.Float(t), dtype=np.float64))
-    return floats(width, dr.gather(mi.UInt32, index, mi.UInt32(kept)), values)
+    return floats(width, _kept(index, kept), values)

@@ -28,6 +28,7 @@ import mitsuba as mi
 
 from . import _bridge, _lights, _mis, _transport
 from ._scene import SceneInfo, analyse
+from ._transport import mean_channels
 
 # A wavefront is compacted when fewer than this fraction of its lanes live.
 _COMPACT = 0.85
@@ -45,11 +46,6 @@ def index_spectrum(spec: Any, channel: Any) -> Any:
         m = dr.select(channel == 1, spec[1], m)
         m = dr.select(channel == 2, spec[2], m)
     return m
-
-
-def mean_channels(spec: Any) -> Any:
-    """The mean over the spectrum's channels."""
-    return dr.mean(mi.UnpolarizedSpectrum(spec), axis=0)
 
 
 class Lanes:

@@ -69,13 +69,25 @@ def medium_interaction_at(p: Any, wavelengths: Any) -> Any:
     return mei
 
 
+def mean_channels(spec: Any) -> Any:
+    """The mean over the spectrum's channels, per lane. (Not ``dr.mean(…,
+    axis=0)``, which compiles the array's width into its kernel as a literal:
+    a new kernel for every wavefront size.)"""
+    s = mi.UnpolarizedSpectrum(spec)
+    n = dr.size_v(s)
+    total = s[0]
+    for i in range(1, n):
+        total = total + s[i]
+    return total * (1.0 / n)
+
+
 def extinction_rate(medium: Any, p: Any, wavelengths: Any, active: Any) -> Any:
     """``m``, the proxy's extinction rate of ``medium`` (per metre): the mean
     over channels of its majorant at ``p`` (σt in a homogeneous medium), 0
     outside any medium."""
     active = mi.Bool(active) & (medium != None)  # noqa: E711 (Dr.Jit pointer test)
     majorant = medium.get_majorant(medium_interaction_at(p, wavelengths), active)
-    return dr.select(active, dr.mean(mi.UnpolarizedSpectrum(majorant), axis=0), 0.0)
+    return dr.select(active, mean_channels(majorant), 0.0)
 
 
 def walk(scene: Any, u: Any, ray: Any, medium: Any, channel: Any, active: Any,
@@ -156,7 +168,7 @@ def _walk(scene: Any, rng: Any, ray: Any, length: Any, medium: Any, channel: Any
         mei.p = ray.o
         mei.wavelengths = ray.wavelengths
         majorant = mi.Spectrum(medium.get_majorant(mei, in_medium))
-        rate = dr.mean(mi.UnpolarizedSpectrum(majorant), axis=0)
+        rate = mean_channels(majorant)
 
         # Homogeneous media: straight to the segment's end, in closed form.
         homogeneous = in_medium & medium.is_homogeneous()
