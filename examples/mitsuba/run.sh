@@ -8,14 +8,7 @@
 # installs Debian's libllvm19 if missing) and renders fog.xml into fog.exr.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-llvm=/usr/lib/x86_64-linux-gnu/libLLVM-19.so
-if [ ! -e "$llvm" ]; then
-  sudo=""
-  [ "$(id -u)" -eq 0 ] || sudo=sudo
-  $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends libllvm19 >/dev/null
-fi
-export DRJIT_LIBLLVM_PATH="$llvm"
+source omnee-py/tests-mitsuba/llvm19.sh
 venv="$PWD/target/omnee-mitsuba-venv"
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
 "$venv/bin/python" -m pip install --quiet -r omnee-py/tests-mitsuba/requirements.txt

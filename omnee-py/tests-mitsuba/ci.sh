@@ -20,15 +20,8 @@ cd "$(dirname "$0")/../.."
 SECONDS=0
 step() { printf '\n--> [%4ds] %s\n' "$SECONDS" "$*"; }
 
-llvm=/usr/lib/x86_64-linux-gnu/libLLVM-19.so
 step "LLVM 19 for Dr.Jit"
-if [ ! -e "$llvm" ]; then
-  sudo=""
-  [ "$(id -u)" -eq 0 ] || sudo=sudo
-  $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends libllvm19 >/dev/null
-fi
-export DRJIT_LIBLLVM_PATH="$llvm"
+source omnee-py/tests-mitsuba/llvm19.sh
 
 step "a venv with Mitsuba 3.9.1, Dr.Jit 1.5.0 and omnee"
 venv="${OMNEE_MITSUBA_VENV:-$PWD/target/omnee-mitsuba-venv}"
