@@ -9,7 +9,7 @@ results back into full-width Dr.Jit arrays (zero on the other lanes).
 
 from __future__ import annotations
 
-from typing import Any, List, Sequence, Tuple
+from typing import Any, Iterator, List, Sequence, Tuple
 
 import drjit as dr
 import mitsuba as mi
@@ -119,6 +119,18 @@ def _kept(index: Any, kept: np.ndarray) -> Any:
     return dr.gather(mi.UInt32, index, _jit(mi.UInt32, kept, np.uint32))
 
 
+def _by_group(groups: Sequence[Any], group: Any, active: Any, call: Any, *arrays: Any) -> Iterator[Tuple[Any, Any]]:
+    """For each group with active lanes: the lanes the core accepted and
+    ``call(phase, *rows)``, the core's result on their rows with the
+    group's phase function."""
+    for g, grp in enumerate(groups):
+        index = lanes(active & (group == g))
+        if dr.width(index) == 0:
+            continue
+        kept, result = _rows_accepted(lambda *r: call(grp.phase, *r), rows(index, *arrays))
+        yield _kept(index, kept), result
+
+
 def omnee_draw(groups: Sequence[Any], group: Any, x0: Any, x2: Any, u: Any, active: Any) -> Tuple[Any, Any, Any]:
     """OMNEE's vertex ``x1`` for every active lane, drawn by the core's
     batch over connections (float32) with its group's phase function:
@@ -128,13 +140,8 @@ def omnee_draw(groups: Sequence[Any], group: Any, x0: Any, x2: Any, u: Any, acti
     pdf = dr.zeros(mi.Float, width)
     valid = dr.zeros(mi.Bool, width)
     active = mi.Bool(active) & connectable(x0, x2)
-    for g, grp in enumerate(groups):
-        index = lanes(active & (group == g))
-        if dr.width(index) == 0:
-            continue
-        kept, s = _rows_accepted(lambda a, b, uu: omnee.Omnee(x0=a, x2=b, phase=grp.phase).sample(uu),
-                                 rows(index, x0, x2, u))
-        index = _kept(index, kept)
+    draw = lambda phase, a, b, uu: omnee.Omnee(x0=a, x2=b, phase=phase).sample(uu)  # noqa: E731
+    for index, s in _by_group(groups, group, active, draw, x0, x2, u):
         x1 += points(width, index, s.x1)
         pdf += floats(width, index, s.pdf)
         valid |= mask(width, index, s.valid)
@@ -147,13 +154,9 @@ def omnee_pdf(groups: Sequence[Any], group: Any, x0: Any, x2: Any, x1: Any, acti
     width = dr.width(active)
     pdf = dr.zeros(mi.Float, width)
     active = mi.Bool(active) & connectable(x0, x2)
-    for g, grp in enumerate(groups):
-        index = lanes(active & (group == g))
-        if dr.width(index) == 0:
-            continue
-        kept, values = _rows_accepted(lambda a, b, c: omnee.Omnee(x0=a, x2=b, phase=grp.phase).pdf(c),
-                                      rows(index, x0, x2, x1))
-        pdf += floats(width, _kept(index, kept), values)
+    density = lambda phase, a, b, c: omnee.Omnee(x0=a, x2=b, phase=phase).pdf(c)  # noqa: E731
+    for index, values in _by_group(groups, group, active, density, x0, x2, x1):
+        pdf += floats(width, index, values)
     return pdf
 
 
